@@ -1,0 +1,17 @@
+# Every dependency is a Debian 12 package; .ci/install-deps installs them.
+find_package(TBB CONFIG REQUIRED)
+find_package(Eigen3 CONFIG REQUIRED)
+find_package(CLI11 CONFIG REQUIRED)
+find_package(nlohmann_json CONFIG REQUIRED)
+find_package(fmt CONFIG REQUIRED)
+find_package(PNG REQUIRED)
+find_package(PkgConfig REQUIRED)
+# Link OSMesa alone: with libGL (glvnd) also on the line, GL calls silently draw nothing (shared/PLATFORM.md).
+pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
+pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
+if(RIVULET_BUILD_TESTS)
+  find_package(GTest CONFIG REQUIRED)
+endif()
+if(RIVULET_BUILD_PERF)
+  find_package(benchmark CONFIG REQUIRED)
+endif()

@@ -1,0 +1,41 @@
+#pragma once
+// What the renderer reads from a frame slot. Views only: the slot owns the memory, and the renderer
+// copies what it needs into GL buffers before the slot is handed back to the workers.
+#include <cstdint>
+#include <span>
+
+#include "jobs/cylinder_layout.h"
+
+namespace rivulet {
+
+// Heights of the pool surface, row-major [iz * nx + ix], absolute y. Sample (ix, iz) lies at
+// (x0 + ix * dx, z0 + iz * dz).
+struct HeightFieldView {
+    int nx = 0, nz = 0;
+    float x0 = 0, z0 = 0, dx = 1, dz = 1;
+    std::span<const float> heights;
+};
+
+// Scan-conversion output: the whole cylinder pool's vertex array of this slot (6 floats per vertex:
+// position xyz, normal xyz; cylinder c starts at vertex c * layout.verts_per_cylinder()) and the groups
+// drawn this frame. Only rings [vmin, vmax] of a drawn cylinder are valid and need uploading.
+struct CylinderFrameView {
+    std::span<const float> vertices;
+    std::span<const GroupDraw> groups;
+};
+
+// A general indexed triangle mesh (6 floats per vertex: position, normal), e.g. from marching slices.
+struct TriangleMeshView {
+    std::span<const float> vertices;
+    std::span<const std::uint32_t> indices;
+};
+
+struct FrameView {
+    CylinderFrameView cylinders;
+    TriangleMeshView mesh;
+    std::span<const float> sphere_centers;  // xyz per isolated particle, drawn as instanced low-res spheres
+    float sphere_radius = 0;
+    HeightFieldView pool;
+};
+
+}  // namespace rivulet

@@ -1,0 +1,47 @@
+#pragma once
+// Headless OpenGL 4.5 core renderer on OSMesa (llvmpipe). The thread that constructs it owns the context
+// and is the only one that may call render(). Setup failures throw std::runtime_error with a clear text.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "jobs/cylinder_layout.h"
+#include "systems/render/frame_view.h"
+#include "systems/scenes/scene.h"
+
+namespace rivulet {
+
+struct RenderSettings {
+    int width = 1280;
+    int height = 720;
+};
+
+class Renderer {
+public:
+    explicit Renderer(const RenderSettings& settings);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Static content: camera, ground plane, colliders, pool grid size. Call once per scene.
+    void set_scene(const SceneDesc& scene);
+    // Builds the shared cylinder index buffer (sent to GL once) and a vertex buffer for `max_cylinders`.
+    void set_cylinder_pool(const CylinderLayout& layout, std::uint32_t max_cylinders);
+
+    // Uploads only the changed ranges of `frame` (rings [vmin, vmax] per group), draws, and finishes.
+    void render(const FrameView& frame);
+
+    int width() const;
+    int height() const;
+    // The last rendered picture, RGBA8, rows top to bottom; `out` holds width*height*4 bytes.
+    void read_rgba(std::span<std::uint8_t> out) const;
+    std::string gl_version() const;
+    std::string gl_renderer() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rivulet

@@ -1,0 +1,78 @@
+#pragma once
+// What a scene is: emitters, colliders, pool, camera and the extents the surface methods need. Built-in
+// scenes are made in code (builtin_scenes.cpp); scene files (docs/scenes.md) fill the same struct.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "jobs/vec3.h"
+
+namespace rivulet {
+
+struct SphereCollider {
+    Vec3f center;
+    float radius = 0;
+};
+
+struct BoxCollider {
+    Vec3f min, max;
+};
+
+// A nozzle: particles leave `position` (jittered within `nozzle_radius`) along `direction`, at `speed`,
+// inside a cone of half-angle `spread` radians, `rate` particles per second.
+struct Emitter {
+    Vec3f position;
+    Vec3f direction{0, 1, 0};
+    float speed = 1;
+    float spread = 0;
+    float nozzle_radius = 0;
+    float rate = 0;
+};
+
+// The resting pool: a height field (2D wave equation) over a rectangle, at `level` when calm. A particle
+// that reaches it pushes the surface down and is absorbed (seed 000 §3).
+struct PoolDesc {
+    bool enabled = false;
+    float x0 = 0, z0 = 0;          // corner of the rectangle
+    float size_x = 1, size_z = 1;  // extent
+    int nx = 128, nz = 128;        // grid samples
+    float level = 0;               // calm surface height (y)
+    float wave_speed = 1.0f;       // m/s
+    float damping = 0.5f;          // 1/s
+    float impulse_scale = 0.002f;  // depth change per unit of particle downward momentum
+};
+
+struct CameraDesc {
+    Vec3f eye{0, 1.5f, 4};
+    Vec3f target{0, 0.8f, 0};
+    float fov_y_deg = 45;
+};
+
+struct SceneDesc {
+    std::string name;
+    float particle_radius = 0.02f;     // world units
+    std::uint32_t max_particles = 16384;
+    float dt = 1.0f / 60.0f;           // seconds per frame
+    int substeps = 2;
+    int warmup_frames = 90;            // simulated before frame 0 so pictures start in the steady state
+    std::uint64_t seed = 1;
+    float lifetime = 6.0f;             // seconds; older particles are recycled
+    Vec3f gravity{0, -9.81f, 0};
+    float ground_y = 0;
+    float restitution = 0.3f;
+    float friction = 0.4f;
+    std::vector<Emitter> emitters;
+    std::vector<SphereCollider> spheres;
+    std::vector<BoxCollider> boxes;
+    PoolDesc pool;
+    float v_min = 0, v_max = 3;        // extent of the cylinders along +y (scan conversion domain)
+    CameraDesc camera;
+};
+
+std::span<const std::string_view> builtin_scene_names();
+// Throws std::invalid_argument naming the known scenes when `name` is not one of them.
+SceneDesc make_builtin_scene(std::string_view name);
+
+}  // namespace rivulet
