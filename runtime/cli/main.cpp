@@ -1,2 +1,23 @@
-// Placeholder until the CLI lands.
-int main() { return 0; }
+// rivulet: particle fluids to surfaces and pictures. The command line is a contract (DESIGN §4).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "cli/commands.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"Rivulet: a task-graph runtime that turns particle fluids into surfaces and pictures"};
+    app.require_subcommand(1);
+    int status = 0;
+    rivulet::cli::add_run_command(app, status);
+    rivulet::cli::add_mesh_command(app, status);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "rivulet: error: %s\n", e.what());
+        return 1;
+    }
+    return status;
+}

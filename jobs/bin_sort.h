@@ -1,0 +1,49 @@
+#pragma once
+// Hash-table bin sort along the V axis (seed 000 §2.1): every particle goes into every cross-section bin
+// whose plane its sphere intersects, in linear time, stable (particle index order within a bin).
+//
+// Bin b is the plane y_b = top - b * spacing (bin 0 at the top, scanning downwards as the seed does).
+// The sort runs in chunks of particles so the runtime can count and scatter chunks in parallel; chunk
+// offsets are laid out bin-major, chunk-minor, which keeps the result identical at any thread count.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+namespace rivulet {
+
+struct BinGrid {
+    float top = 0;      // y of plane 0
+    float spacing = 1;  // distance between planes
+    std::uint32_t bins = 0;
+    float radius = 0;   // sphere radius of every particle
+
+    float plane_y(std::uint32_t b) const { return top - static_cast<float>(b) * spacing; }
+    // Planes [first, last] hit by a sphere at height y; returns false when it hits none.
+    bool span_of(float y, std::uint32_t& first, std::uint32_t& last) const;
+    // Upper bound of bins one sphere can span.
+    std::uint32_t max_bins_per_particle() const;
+};
+
+// The result: entries[offsets[b] .. offsets[b+1]) are the particle indices in bin b, ascending.
+struct BinTableView {
+    std::span<const std::uint32_t> offsets;  // bins + 1
+    std::span<const std::uint32_t> entries;
+    std::uint32_t bin_size(std::uint32_t b) const { return offsets[b + 1] - offsets[b]; }
+    std::span<const std::uint32_t> bin(std::uint32_t b) const {
+        return entries.subspan(offsets[b], offsets[b + 1] - offsets[b]);
+    }
+};
+
+// Pass 1, per chunk: counts[b] = entries chunk `y` adds to bin b (counts has grid.bins slots).
+void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<std::uint32_t> counts);
+
+// Between the passes, once: turns per-chunk counts (chunk-major: counts[c * bins + b]) into per-chunk
+// write cursors (same layout) and the bin offsets (bins + 1). Returns the total entry count.
+std::uint32_t bin_prefix(std::uint32_t bins, std::uint32_t chunks, std::span<const std::uint32_t> counts,
+                         std::span<std::uint32_t> cursors, std::span<std::uint32_t> offsets);
+
+// Pass 2, per chunk: writes the indices (first_index + i) of chunk `y` at its cursors (advanced in place).
+void bin_scatter_chunk(const BinGrid& grid, std::span<const float> y, std::uint32_t first_index,
+                       std::span<std::uint32_t> cursors, std::span<std::uint32_t> entries);
+
+}  // namespace rivulet

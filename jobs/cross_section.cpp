@@ -1,0 +1,69 @@
+#include "jobs/cross_section.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rivulet {
+
+void circle_maxima(CirclesView c, AngleTable a, std::span<float> r) {
+    const std::size_t u = r.size();
+    std::fill(r.begin(), r.end(), 0.0f);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        const float cx = c.cx[i], cz = c.cz[i];
+        const float q = c.rho[i] * c.rho[i] - (cx * cx + cz * cz);
+        for (std::size_t k = 0; k < u; ++k) {
+            const float b = cx * a.cos_t[k] + cz * a.sin_t[k];
+            const float disc = b * b + q;
+            const float t = b + std::sqrt(std::max(disc, 0.0f));
+            r[k] = std::max(r[k], t);
+        }
+    }
+}
+
+void smooth_cyclic(std::span<float> r, int iterations, std::span<float> tmp) {
+    const std::size_t u = r.size();
+    if (u < 3) return;
+    for (int it = 0; it < iterations; ++it) {
+        for (std::size_t k = 0; k < u; ++k) {
+            const float prev = r[k == 0 ? u - 1 : k - 1], next = r[k + 1 == u ? 0 : k + 1];
+            tmp[k] = 0.25f * prev + 0.5f * r[k] + 0.25f * next;
+        }
+        std::copy(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(u), r.begin());
+    }
+}
+
+void gaussian_blend(CirclesView c, AngleTable a, float tension, std::span<float> r, std::span<float> alpha) {
+    const std::size_t u = r.size();
+    std::fill(r.begin(), r.end(), 0.0f);
+    std::fill(alpha.begin(), alpha.begin() + static_cast<std::ptrdiff_t>(u), 0.0f);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        const float dist = std::sqrt(c.cx[i] * c.cx[i] + c.cz[i] * c.cz[i]);
+        const float radius = std::max(c.rho[i], 1e-6f);
+        const float height = dist + c.rho[i];
+        const float w = tension * dist * dist / radius;
+        const float dir_x = dist > 0 ? c.cx[i] / dist : 0.0f, dir_z = dist > 0 ? c.cz[i] / dist : 0.0f;
+        for (std::size_t k = 0; k < u; ++k) {
+            const float g = std::exp(-w * (1.0f - (dir_x * a.cos_t[k] + dir_z * a.sin_t[k])));
+            const float gd = g * height;
+            float blend = alpha[k];
+            if (gd > r[k]) {
+                const float b = (gd - r[k]) / gd;
+                blend = alpha[k] * (1.0f - b) + (1.0f - g) * b;
+            }
+            r[k] = r[k] * blend + gd * (1.0f - blend);
+            alpha[k] = std::min(alpha[k] + g, 1.0f);
+        }
+    }
+}
+
+void radial_function(const CrossSectionParams& p, CirclesView c, AngleTable a, std::span<float> r,
+                     std::span<float> tmp) {
+    if (p.function == RadialFunction::kGaussianBlend) {
+        gaussian_blend(c, a, p.tension, r, tmp);
+    } else {
+        circle_maxima(c, a, r);
+        smooth_cyclic(r, p.smoothing_iterations, tmp);
+    }
+}
+
+}  // namespace rivulet

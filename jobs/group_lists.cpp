@@ -1,0 +1,41 @@
+#include "jobs/group_lists.h"
+
+namespace rivulet {
+
+void build_group_lists(BinTableView bins, std::span<const std::int32_t> group_of, std::uint32_t groups,
+                       const GroupListsOut& out) {
+    for (std::uint32_t g = 0; g <= groups; ++g) out.offsets[g] = 0;
+    for (std::uint32_t e : bins.entries)
+        if (group_of[e] >= 0) ++out.offsets[group_of[e] + 1];
+    for (std::uint32_t g = 0; g < groups; ++g) {
+        out.offsets[g + 1] += out.offsets[g];
+        out.cursor[g] = out.offsets[g];
+    }
+    const std::uint32_t nbins = static_cast<std::uint32_t>(bins.offsets.size()) - 1;
+    for (std::uint32_t b = 0; b < nbins; ++b) {
+        for (std::uint32_t e : bins.bin(b)) {
+            const std::int32_t g = group_of[e];
+            if (g < 0) continue;
+            const std::uint32_t slot = out.cursor[g]++;
+            out.bin[slot] = b;
+            out.particle[slot] = e;
+        }
+    }
+    for (std::uint32_t g = 0; g < groups; ++g) {
+        // Every group has at least two members, so its list is never empty.
+        out.vmin[g] = out.bin[out.offsets[g]];
+        out.vmax[g] = out.bin[out.offsets[g + 1] - 1];
+    }
+}
+
+std::uint32_t collect_isolated(ConstPositions p, std::span<const std::int32_t> group_of, std::span<float> centers) {
+    std::uint32_t n = 0;
+    for (std::size_t i = 0; i < group_of.size(); ++i) {
+        if (group_of[i] >= 0) continue;
+        centers[3 * n] = p.x[i], centers[3 * n + 1] = p.y[i], centers[3 * n + 2] = p.z[i];
+        ++n;
+    }
+    return n;
+}
+
+}  // namespace rivulet

@@ -1,0 +1,201 @@
+#include "jobs/grouping.h"
+
+#include <bit>
+#include <cmath>
+#include <limits>
+
+namespace rivulet {
+namespace {
+
+constexpr std::int32_t kUnvisited = -2;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+// Below this many entries a linear scan of the bin beats building its hash.
+constexpr std::uint32_t kLinearScanMax = 48;
+
+struct CellCoord {
+    std::int64_t x, z;
+};
+
+// A 2D hash of one bin's entries, cell size eps, bucket items sorted by position in the bin.
+class BinHash {
+public:
+    BinHash(std::span<std::uint32_t> start, std::span<std::uint32_t> items) : start_(start), items_(items) {}
+
+    void build(ConstPositions p, std::span<const std::uint32_t> bin, float inv_cell) {
+        inv_cell_ = inv_cell;
+        const std::size_t slots = grouping_hash_slots(static_cast<std::uint32_t>(bin.size()));
+        mask_ = static_cast<std::uint32_t>(slots - 1);
+        for (std::size_t s = 0; s <= slots; ++s) start_[s] = 0;
+        for (std::uint32_t e : bin) ++start_[bucket(cell_of(p, e)) + 1];
+        for (std::size_t s = 0; s < slots; ++s) start_[s + 1] += start_[s];
+        // Stable scatter through a moving cursor per bucket: reuse start_[b] and restore it afterwards.
+        for (std::uint32_t pos = 0; pos < bin.size(); ++pos) items_[start_[bucket(cell_of(p, bin[pos]))]++] = pos;
+        for (std::size_t s = slots; s > 0; --s) start_[s] = start_[s - 1];
+        start_[0] = 0;
+    }
+
+    // Lowest bin position within the 3x3 cells around `pj`'s cell accepted by `accept(pos)`.
+    template <class Accept>
+    std::uint32_t first_match(ConstPositions p, std::uint32_t pj, Accept&& accept) const {
+        const CellCoord c = cell_of(p, pj);
+        std::uint32_t best = kNone;
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+            for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                const std::uint32_t b = bucket({c.x + dx, c.z + dz});
+                for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k) {
+                    const std::uint32_t pos = items_[k];
+                    if (pos >= best) break;  // items ascend: nothing better in this bucket
+                    if (accept(pos)) {
+                        best = pos;
+                        break;
+                    }
+                }
+            }
+        }
+        return best;
+    }
+
+private:
+    CellCoord cell_of(ConstPositions p, std::uint32_t i) const {
+        return {static_cast<std::int64_t>(std::floor(p.x[i] * inv_cell_)),
+                static_cast<std::int64_t>(std::floor(p.z[i] * inv_cell_))};
+    }
+    std::uint32_t bucket(CellCoord c) const {
+        const auto h = static_cast<std::uint64_t>(c.x) * 0x9E3779B1ull ^ static_cast<std::uint64_t>(c.z) * 0x85EBCA77ull;
+        return static_cast<std::uint32_t>(h ^ (h >> 29)) & mask_;
+    }
+
+    std::span<std::uint32_t> start_, items_;
+    float inv_cell_ = 1;
+    std::uint32_t mask_ = 0;
+};
+
+class Grouper {
+public:
+    Grouper(ConstPositions p, BinTableView bins, const GroupingParams& params, std::span<std::int32_t> group_of,
+            const GroupingScratch& s)
+        : p_(p), bins_(bins), params_(params), group_of_(group_of), blocked_bin_(s.blocked_bin),
+          eps2_(params.epsilon * params.epsilon),
+          hashes_{BinHash(s.hash_start[0], s.hash_items[0]), BinHash(s.hash_start[1], s.hash_items[1])} {}
+
+    GroupingResult run() {
+        for (auto& g : group_of_) g = kUnvisited;
+        const std::uint32_t nbins = static_cast<std::uint32_t>(bins_.offsets.size()) - 1;
+        for (std::uint32_t i = 0; i < params_.max_groups; ++i) blocked_bin_[i] = kNone;
+        for (std::uint32_t b = 0; b < nbins; ++b) group_bin(b);
+        for (auto& g : group_of_) {
+            if (g < 0) {
+                g = kIsolated;
+                ++result_.isolated;
+            }
+        }
+        return result_;
+    }
+
+private:
+    bool near(std::uint32_t a, std::uint32_t b) const {
+        const float dx = p_.x[a] - p_.x[b], dy = p_.y[a] - p_.y[b], dz = p_.z[a] - p_.z[b];
+        return dx * dx + dy * dy + dz * dz < eps2_;
+    }
+
+    // Position in `bin` of the first entry accepted, scanning linearly or through the bin's hash.
+    template <class Accept>
+    std::uint32_t first_in(std::span<const std::uint32_t> bin, const BinHash* hash, std::uint32_t pj,
+                           Accept&& accept) const {
+        if (!hash) {
+            for (std::uint32_t pos = 0; pos < bin.size(); ++pos)
+                if (accept(pos)) return pos;
+            return kNone;
+        }
+        return hash->first_match(p_, pj, accept);
+    }
+
+    bool new_group(std::uint32_t pj, std::uint32_t pk, std::uint32_t bin) {
+        if (result_.groups >= params_.max_groups) {
+            ++result_.pool_exhausted;
+            return false;
+        }
+        const auto g = static_cast<std::int32_t>(result_.groups++);
+        group_of_[pj] = group_of_[pk] = g;
+        blocked_bin_[g] = bin;
+        return true;
+    }
+
+    void group_bin(std::uint32_t b) {
+        const auto cur = bins_.bin(b);
+        const auto prev = b > 0 ? bins_.bin(b - 1) : std::span<const std::uint32_t>{};
+        const float inv_cell = 1.0f / params_.epsilon;
+        const BinHash* cur_hash = nullptr;
+        if (cur.size() > kLinearScanMax) {
+            BinHash& h = hashes_[b & 1];
+            h.build(p_, cur, inv_cell);
+            cur_hash = &h;
+        }
+        // The previous bin's hash was built last iteration into the other table.
+        const BinHash* prev_hash = prev.size() > kLinearScanMax ? &hashes_[(b + 1) & 1] : nullptr;
+
+        // Groups continuing from above are present in this bin: block them before placing anyone.
+        for (std::uint32_t e : cur)
+            if (group_of_[e] >= 0) blocked_bin_[group_of_[e]] = b;
+
+        for (std::uint32_t e : cur) {
+            if (group_of_[e] != kUnvisited) continue;
+            place(e, b, cur, cur_hash, prev, prev_hash);
+        }
+    }
+
+    void place(std::uint32_t pj, std::uint32_t b, std::span<const std::uint32_t> cur, const BinHash* cur_hash,
+               std::span<const std::uint32_t> prev, const BinHash* prev_hash) {
+        const std::uint32_t c = first_in(cur, cur_hash, pj, [&](std::uint32_t pos) {
+            const std::uint32_t pk = cur[pos];
+            return pk != pj && group_of_[pk] != kUnvisited && near(pj, pk);
+        });
+        if (c != kNone) {
+            const std::uint32_t pk = cur[c];
+            if (group_of_[pk] >= 0) {
+                group_of_[pj] = group_of_[pk];
+            } else if (!new_group(pj, pk, b)) {
+                group_of_[pj] = kIsolated;
+            }
+            return;
+        }
+        const std::uint32_t q =
+            first_in(prev, prev_hash, pj, [&](std::uint32_t pos) { return near(pj, prev[pos]); });
+        if (q == kNone) {
+            group_of_[pj] = kIsolated;
+            return;
+        }
+        const std::uint32_t pk = prev[q];
+        const std::int32_t gk = group_of_[pk];
+        if (gk < 0) {
+            if (!new_group(pj, pk, b)) group_of_[pj] = kIsolated;
+        } else if (blocked_bin_[gk] == b) {
+            group_of_[pj] = kIsolated;
+        } else {
+            group_of_[pj] = gk;
+            blocked_bin_[gk] = b;
+        }
+    }
+
+    ConstPositions p_;
+    BinTableView bins_;
+    GroupingParams params_;
+    std::span<std::int32_t> group_of_;
+    std::span<std::uint32_t> blocked_bin_;
+    float eps2_;
+    BinHash hashes_[2];
+    GroupingResult result_;
+};
+
+}  // namespace
+
+std::size_t grouping_hash_slots(std::uint32_t max_bin_size) {
+    return std::bit_ceil(std::size_t(max_bin_size) * 2u + 1u);
+}
+
+GroupingResult group_particles(ConstPositions particles, BinTableView bins, const GroupingParams& params,
+                               std::span<std::int32_t> group_of, const GroupingScratch& scratch) {
+    return Grouper(particles, bins, params, group_of, scratch).run();
+}
+
+}  // namespace rivulet

@@ -1,0 +1,25 @@
+#pragma once
+// Each subcommand of `rivulet` registers itself on the CLI11 app; the callback runs the command and
+// leaves its exit status in `status`.
+#include <CLI/CLI.hpp>
+
+#include "systems/scan/scan_settings.h"
+
+namespace rivulet::cli {
+
+void add_run_command(CLI::App& app, int& status);
+void add_mesh_command(CLI::App& app, int& status);
+
+// Options of sphere scan conversion shared by `run` and `mesh` (--u, --v, --epsilon, ...).
+struct ScanOptions {
+    ScanSettings settings;
+    std::string radial = "maxima";
+    void add_to(CLI::App& cmd);
+    // Applies --radial; throws std::invalid_argument on a bad value.
+    ScanSettings resolve() const;
+};
+
+// Parses "WxH" (e.g. 1280x720); throws std::invalid_argument with a clear message.
+void parse_size(const std::string& text, int& width, int& height);
+
+}  // namespace rivulet::cli

@@ -1,0 +1,98 @@
+#include "runtime/lib/frame_graph.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <tbb/blocked_range.h>
+#include <tbb/flow_graph.h>
+#include <tbb/parallel_for.h>
+
+namespace rivulet {
+
+struct FrameGraph::Tbb {
+    tbb::flow::graph graph;
+    tbb::flow::broadcast_node<tbb::flow::continue_msg> start{graph};
+    std::vector<std::unique_ptr<tbb::flow::continue_node<tbb::flow::continue_msg>>> nodes;
+};
+
+FrameGraph::FrameGraph() = default;
+FrameGraph::~FrameGraph() {
+    if (tbb_) tbb_->graph.wait_for_all();
+}
+
+FrameGraph::JobId FrameGraph::serial(std::string name, SerialFn fn, std::initializer_list<JobId> after) {
+    if (tbb_) throw std::logic_error("FrameGraph: jobs must be added before the first run");
+    jobs_.push_back({std::move(name), std::move(fn), {}, {}, std::vector<JobId>(after)});
+    return static_cast<JobId>(jobs_.size() - 1);
+}
+
+FrameGraph::JobId FrameGraph::parallel(std::string name, CountFn count, ItemFn item,
+                                       std::initializer_list<JobId> after) {
+    if (tbb_) throw std::logic_error("FrameGraph: jobs must be added before the first run");
+    jobs_.push_back({std::move(name), {}, std::move(count), std::move(item), std::vector<JobId>(after)});
+    return static_cast<JobId>(jobs_.size() - 1);
+}
+
+void FrameGraph::execute(JobId j) {
+    Job& job = jobs_[j];
+    job.items = 0;
+    if (failed_.load(std::memory_order_acquire)) return;  // a job upstream threw: skip the rest of the frame
+    try {
+        run_job(job);
+    } catch (...) {
+        std::lock_guard lock(error_mutex_);
+        if (!error_) error_ = std::current_exception();
+        failed_.store(true, std::memory_order_release);
+    }
+}
+
+void FrameGraph::run_job(Job& job) {
+    using us = std::chrono::duration<double, std::micro>;
+    job.begin_us = us(std::chrono::steady_clock::now() - t0_).count();
+    if (job.serial) {
+        job.serial();
+        job.items = 1;
+    } else {
+        const std::size_t n = job.count();
+        job.items = n;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&job](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) job.item(i);
+        });
+    }
+    job.end_us = us(std::chrono::steady_clock::now() - t0_).count();
+}
+
+void FrameGraph::build() {
+    tbb_ = std::make_unique<Tbb>();
+    for (JobId j = 0; j < jobs_.size(); ++j) {
+        tbb_->nodes.push_back(std::make_unique<tbb::flow::continue_node<tbb::flow::continue_msg>>(
+            tbb_->graph, [this, j](const tbb::flow::continue_msg&) { execute(j); }));
+    }
+    for (JobId j = 0; j < jobs_.size(); ++j) {
+        if (jobs_[j].after.empty()) tbb::flow::make_edge(tbb_->start, *tbb_->nodes[j]);
+        for (JobId d : jobs_[j].after) {
+            if (d >= j) throw std::logic_error("FrameGraph: a job may only follow jobs added before it");
+            tbb::flow::make_edge(*tbb_->nodes[d], *tbb_->nodes[j]);
+        }
+    }
+}
+
+void FrameGraph::start() {
+    if (!tbb_) build();
+    failed_ = false;
+    error_ = nullptr;
+    t0_ = std::chrono::steady_clock::now();
+    tbb_->start.try_put(tbb::flow::continue_msg());
+}
+
+void FrameGraph::wait() {
+    tbb_->graph.wait_for_all();
+    if (error_) std::rethrow_exception(error_);
+}
+
+double FrameGraph::last_run_ms() const {
+    double end = 0;
+    for (const Job& j : jobs_) end = std::max(end, j.end_us);
+    return end * 1e-3;
+}
+
+}  // namespace rivulet

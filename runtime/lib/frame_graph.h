@@ -1,0 +1,78 @@
+#pragma once
+// A frame's dependency graph of named jobs on oneTBB (tbb::flow::graph). Built once, re-run every frame
+// without allocating. A job is either serial or a set of independent items the runtime splits across
+// workers; jobs know nothing about threads. Each run records every job's start and end (µs from the
+// frame's start) so stages can be timed and traced.
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <mutex>
+#include <cstdint>
+#include <functional>
+#include <initializer_list>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rivulet {
+
+class FrameGraph {
+public:
+    using JobId = std::uint32_t;
+    using SerialFn = std::function<void()>;
+    using CountFn = std::function<std::size_t()>;
+    using ItemFn = std::function<void(std::size_t item)>;
+
+    FrameGraph();
+    ~FrameGraph();
+    FrameGraph(const FrameGraph&) = delete;
+    FrameGraph& operator=(const FrameGraph&) = delete;
+
+    JobId serial(std::string name, SerialFn fn, std::initializer_list<JobId> after = {});
+    // `count` is asked when the job starts (item counts change per frame); items run in any order.
+    JobId parallel(std::string name, CountFn count, ItemFn item, std::initializer_list<JobId> after = {});
+
+    // A job that throws stops the frame's remaining jobs; wait() rethrows the first exception.
+    // Starts the jobs without dependencies and returns: TBB workers run the frame while the caller does
+    // other work (rendering). wait() joins; the caller helps with the remaining jobs.
+    void start();
+    void wait();
+    void run() {
+        start();
+        wait();
+    }
+
+    std::size_t job_count() const { return jobs_.size(); }
+    const std::string& job_name(JobId j) const { return jobs_[j].name; }
+    // Last run: job start/end in µs since start(), and items processed.
+    double job_begin_us(JobId j) const { return jobs_[j].begin_us; }
+    double job_end_us(JobId j) const { return jobs_[j].end_us; }
+    double job_ms(JobId j) const { return (jobs_[j].end_us - jobs_[j].begin_us) * 1e-3; }
+    std::size_t job_items(JobId j) const { return jobs_[j].items; }
+    // Wall time of the last run from start() until its last job finished, ms.
+    double last_run_ms() const;
+
+private:
+    struct Job {
+        std::string name;
+        SerialFn serial;
+        CountFn count;
+        ItemFn item;
+        std::vector<JobId> after;
+        double begin_us = 0, end_us = 0;
+        std::size_t items = 0;
+    };
+    void execute(JobId j);
+    void run_job(Job& job);
+    void build();
+
+    std::vector<Job> jobs_;
+    struct Tbb;
+    std::unique_ptr<Tbb> tbb_;
+    std::chrono::steady_clock::time_point t0_;
+    std::atomic<bool> failed_{false};
+    std::mutex error_mutex_;
+    std::exception_ptr error_;
+};
+
+}  // namespace rivulet

@@ -1,0 +1,177 @@
+#include "runtime/lib/frame_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <tbb/task_group.h>
+
+#include "systems/render/png_writer.h"
+#include "systems/scan/scan_mesh.h"
+
+namespace rivulet {
+namespace {
+
+constexpr std::size_t kSimChunk = 4096;
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+// Pictures waiting for their PNG encode: three buffers so the main thread rarely waits for an encoder.
+struct FramePipeline::PngRing {
+    static constexpr int kBuffers = 3;
+    struct Buffer {
+        AlignedArray<std::uint8_t> rgba;
+        std::string path;
+        tbb::task_group encode;
+    };
+    std::array<Buffer, kBuffers> buffers;
+    int width = 0, height = 0;
+
+    ~PngRing() {
+        for (auto& b : buffers) b.encode.wait();
+    }
+};
+
+FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& config) : scene_(scene), config_(config) {
+    sim_ = std::make_unique<StreamSimulation>(scene_);
+    particles_.reserve(scene_.max_particles);
+    ScanSettings s = config_.scan;
+    s.radius = scene_.particle_radius;
+    s.v_top = scene_.v_max;
+    s.v_bottom = scene_.v_min;
+    scan_ = std::make_unique<ScanConverter>(s, scene_.max_particles);
+    for (FrameSlot& slot : slots_) {
+        scan_->prepare_output(slot.scan);
+        const HeightFieldView pool = sim_->pool_view();
+        slot.pool_heights.reserve(std::max<std::size_t>(pool.heights.size(), 1));
+        slot.pool = pool;
+        slot.pool.heights = slot.pool_heights.span(pool.heights.size());
+    }
+    build_graph();
+    if (config_.render) {
+        renderer_ = std::make_unique<Renderer>(config_.size);
+        renderer_->set_scene(scene_);
+        renderer_->set_cylinder_pool(scan_->layout(), scan_->settings().max_groups);
+        if (!config_.out_dir.empty()) {
+            std::filesystem::create_directories(config_.out_dir);
+            png_ = std::make_unique<PngRing>();
+            png_->width = renderer_->width(), png_->height = renderer_->height();
+            for (auto& b : png_->buffers) {
+                b.rgba.reserve(std::size_t(png_->width) * png_->height * 4);
+                b.path.reserve(config_.out_dir.size() + 64);
+            }
+        }
+    }
+}
+
+FramePipeline::~FramePipeline() = default;
+
+void FramePipeline::build_graph() {
+    const auto begin = graph_.serial("simulate.begin", [this] { sim_->begin_frame(particles_, sim_frame_); });
+    const auto integrate = graph_.parallel(
+        "simulate.integrate", [this] { return (particles_.size() + kSimChunk - 1) / kSimChunk; },
+        [this](std::size_t c) {
+            const std::size_t b = c * kSimChunk;
+            sim_->integrate(particles_, b, std::min(particles_.size(), b + kSimChunk));
+        },
+        {begin});
+    sim_end_ = graph_.serial("simulate.end", [this] { sim_->end_frame(particles_); }, {integrate});
+    const ScanJobIds scan = add_scan_jobs(
+        graph_, *scan_, [this] { return particles_.positions(); },
+        [this]() -> ScanOutput& { return slots_[target_slot_].scan; }, {sim_end_});
+    // Hand-over data of the slot: pool heights copied (the simulation moves on), counters, hash.
+    graph_.serial(
+        "upload_staging",
+        [this] {
+            FrameSlot& slot = slots_[target_slot_];
+            const HeightFieldView pool = sim_->pool_view();
+            std::copy(pool.heights.begin(), pool.heights.end(), slot.pool_heights.data());
+            slot.particles = static_cast<std::uint32_t>(particles_.size());
+            slot.frame = sim_frame_;
+            slot.hash = config_.hash_frames ? frame_output_hash(slot.scan, scan_->layout()) : 0;
+        },
+        {scan.stage});
+    if (graph_.job_count() > kMaxFrameJobs) throw std::logic_error("frame graph has more jobs than kMaxFrameJobs");
+}
+
+void FramePipeline::warmup() {
+    for (int i = 0; i < scene_.warmup_frames; ++i) sim_->step_serial(particles_, sim_frame_++);
+}
+
+void FramePipeline::extract(int slot, bool async) {
+    target_slot_ = slot;
+    graph_.start();
+    if (!async) finish_extract(slot);
+}
+
+void FramePipeline::finish_extract(int slot) {
+    graph_.wait();
+    ++sim_frame_;
+    const FrameSlot& s = slots_[slot];
+    pending_ = {};
+    pending_.frame = s.frame;
+    pending_.particles = s.particles;
+    pending_.groups = s.scan.draw_count;
+    pending_.isolated = s.scan.sphere_count;
+    pending_.triangles = s.scan.triangles;
+    pending_.hash = s.hash;
+    pending_.extract_ms = graph_.last_run_ms();
+    for (FrameGraph::JobId j = 0; j < graph_.job_count(); ++j) pending_.job_ms[j] = graph_.job_ms(j);
+}
+
+void FramePipeline::render(int slot, int frame_index) {
+    if (!renderer_) return;
+    renderer_->render(slots_[slot].view(scene_.particle_radius));
+    if (!png_) return;
+    auto& buf = png_->buffers[static_cast<std::size_t>(frame_index % PngRing::kBuffers)];
+    buf.encode.wait();  // the encode that last used this buffer
+    renderer_->read_rgba(buf.rgba.span(std::size_t(png_->width) * png_->height * 4));
+    char name[64];
+    std::snprintf(name, sizeof name, "/frame_%05d.png", frame_index);
+    buf.path.assign(config_.out_dir);
+    buf.path.append(name);
+    buf.encode.run([&buf, this] {
+        write_png_rgba(buf.path, png_->width, png_->height, buf.rgba.span(std::size_t(png_->width) * png_->height * 4),
+                       config_.png_level);
+    });
+}
+
+void FramePipeline::run(int frames, const std::function<void(int)>& on_frame) {
+    if (frames <= 0) return;
+    const std::size_t base = records_.size();
+    records_.reserve(base + static_cast<std::size_t>(frames));
+    int slot = 0;
+    extract(slot, false);
+    auto last_done = std::chrono::steady_clock::now();
+    for (int i = 0; i < frames; ++i) {
+        FrameRecord rec = pending_;
+        const bool more = i + 1 < frames;
+        const int next = slot ^ 1;
+        if (more && config_.pipelined) extract(next, true);  // workers fill the other slot meanwhile
+        const auto r0 = std::chrono::steady_clock::now();
+        render(slot, static_cast<int>(base) + i);
+        rec.render_ms = renderer_ ? ms_since(r0) : 0.0;
+        if (more) {
+            if (config_.pipelined) {
+                finish_extract(next);
+            } else {
+                extract(next, false);
+            }
+        }
+        const auto now = std::chrono::steady_clock::now();
+        rec.frame_ms = std::chrono::duration<double, std::milli>(now - last_done).count();
+        last_done = now;
+        records_.push_back(rec);
+        slot = next;
+        if (on_frame) on_frame(i);
+    }
+    if (png_)
+        for (auto& b : png_->buffers) b.encode.wait();
+}
+
+}  // namespace rivulet

@@ -1,0 +1,93 @@
+#pragma once
+// The frame loop: simulation and extraction of frame N+1 run as a frame graph on TBB workers while the
+// main thread renders frame N from the other slot (DESIGN §1). PNG encoding runs as tasks off the main
+// thread. Everything is sized at construction; the steady state allocates nothing.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/lib/frame_graph.h"
+#include "runtime/lib/frame_slot.h"
+#include "runtime/lib/scan_jobs.h"
+#include "systems/particles/particle_set.h"
+#include "systems/render/renderer.h"
+#include "systems/scan/scan_converter.h"
+#include "systems/scenes/scene.h"
+#include "systems/sim/stream_sim.h"
+
+namespace rivulet {
+
+struct PipelineConfig {
+    ScanSettings scan;         // v_top / v_bottom / radius are taken from the scene
+    bool render = true;        // false: extraction only (benchmarks, tests without GL)
+    bool pipelined = true;     // false: extract then render, one after the other
+    bool hash_frames = false;  // frame_output_hash per frame (determinism tests, replay)
+    std::string out_dir;       // PNG frames go here when not empty
+    int png_level = 1;
+    RenderSettings size;
+};
+
+inline constexpr std::size_t kMaxFrameJobs = 32;
+
+struct FrameRecord {
+    std::uint64_t frame = 0;
+    std::uint32_t particles = 0, groups = 0, isolated = 0;
+    std::uint64_t triangles = 0;
+    std::uint64_t hash = 0;
+    double extract_ms = 0;  // frame graph wall time (simulation + extraction)
+    double render_ms = 0;   // main thread: upload + draw + read-back (0 when not rendering)
+    double frame_ms = 0;    // wall time between consecutive frames leaving the loop
+    std::array<double, kMaxFrameJobs> job_ms{};
+};
+
+class FramePipeline {
+public:
+    // Builds simulation, scan converter, slots, frame graph and (if config.render) the renderer on the
+    // calling thread, which becomes the render thread. Throws on invalid settings or GL failure.
+    FramePipeline(const SceneDesc& scene, const PipelineConfig& config);
+    ~FramePipeline();
+
+    // Simulates the scene's warm-up frames (no extraction) so frame 0 shows the steady state.
+    void warmup();
+    // Runs `frames` frames; records go to records(). `on_frame(i)` is called on the main thread after
+    // each frame (progress bars); it must not allocate in the steady state.
+    void run(int frames, const std::function<void(int)>& on_frame = {});
+    // Reserves records for this many frames up front (run() grows them otherwise).
+    void reserve_records(std::size_t frames) { records_.reserve(frames); }
+
+    const std::vector<FrameRecord>& records() const { return records_; }
+    const FrameGraph& graph() const { return graph_; }
+    const ScanConverter& scan() const { return *scan_; }
+    const ParticleSet& particles() const { return particles_; }
+    const FrameSlot& slot(int i) const { return slots_[i]; }
+    Renderer* renderer() { return renderer_.get(); }
+    const SceneDesc& scene() const { return scene_; }
+    std::uint64_t next_sim_frame() const { return sim_frame_; }
+
+private:
+    void build_graph();
+    void extract(int slot, bool async);
+    void finish_extract(int slot);
+    void render(int slot, int frame_index);
+
+    SceneDesc scene_;
+    PipelineConfig config_;
+    ParticleSet particles_;
+    std::unique_ptr<StreamSimulation> sim_;
+    std::unique_ptr<ScanConverter> scan_;
+    std::array<FrameSlot, 2> slots_;
+    int target_slot_ = 0;
+    std::uint64_t sim_frame_ = 0;
+    FrameGraph graph_;
+    FrameGraph::JobId sim_end_ = 0;
+    std::unique_ptr<Renderer> renderer_;
+    struct PngRing;
+    std::unique_ptr<PngRing> png_;
+    std::vector<FrameRecord> records_;
+    FrameRecord pending_;  // extraction figures of the frame in flight
+};
+
+}  // namespace rivulet

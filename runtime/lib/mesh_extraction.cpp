@@ -1,0 +1,58 @@
+#include "runtime/lib/mesh_extraction.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <stdexcept>
+
+#include "runtime/lib/frame_graph.h"
+#include "runtime/lib/scan_jobs.h"
+#include "runtime/lib/stage_summary.h"
+#include "systems/particles/particle_set.h"
+#include "systems/particles/radius_estimate.h"
+#include "systems/scan/scan_converter.h"
+
+namespace rivulet {
+
+MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& req) {
+    const std::size_t n = cloud.x.size();
+    if (n == 0) throw std::invalid_argument("no particles to mesh");
+    ParticleSet particles(n);
+    for (std::size_t i = 0; i < n; ++i)
+        particles.push(cloud.x[i], cloud.y[i], cloud.z[i], 0, 0, 0, static_cast<std::uint32_t>(i));
+
+    MeshResult result;
+    result.particles = n;
+    result.radius = req.radius > 0 ? req.radius : estimate_particle_radius(particles.positions());
+    if (!(result.radius > 0))
+        throw std::invalid_argument("cannot estimate a particle radius (all particles coincide): pass --radius");
+    ScanSettings s = req.scan;
+    s.radius = result.radius;
+    const auto [lo, hi] = std::minmax_element(cloud.y.begin(), cloud.y.end());
+    // Planes from half a radius inside the extreme spheres: every sphere is cut at least once.
+    s.v_top = *hi + 0.5f * result.radius;
+    s.v_bottom = *lo - 0.5f * result.radius;
+    ScanConverter scan(s, n);
+    ScanOutput out;
+    scan.prepare_output(out);
+
+    FrameGraph graph;
+    add_scan_jobs(graph, scan, [&particles] { return particles.positions(); }, [&out]() -> ScanOutput& { return out; });
+    std::vector<double> totals;
+    std::vector<std::vector<double>> stages(0);
+    for (int r = 0; r < req.repeat; ++r) {
+        graph.run();
+        totals.push_back(graph.last_run_ms());
+        stages.resize(graph.job_count());
+        for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j) stages[j].push_back(graph.job_ms(j));
+    }
+    result.total_ms = median(totals);
+    for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j)
+        result.stage_ms.emplace_back(graph.job_name(j), median(stages[j]));
+    result.groups = out.draw_count;
+    result.isolated = out.sphere_count;
+    result.mesh = assemble_scan_mesh(out, scan.layout(), result.radius);
+    result.hash = mesh_hash(result.mesh);
+    return result;
+}
+
+}  // namespace rivulet

@@ -1,0 +1,32 @@
+#pragma once
+// Offline meshing of one particle set (`rivulet mesh`): the scan conversion jobs of a frame graph run
+// `repeat` times on the same particles; timings exclude file I/O.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "systems/io/particle_io.h"
+#include "systems/scan/scan_mesh.h"
+#include "systems/scan/scan_settings.h"
+
+namespace rivulet {
+
+struct MeshRequest {
+    ScanSettings scan;  // v_top / v_bottom come from the particles' extent
+    float radius = 0;   // 0: estimated from the particles
+    int repeat = 1;
+};
+
+struct MeshResult {
+    std::size_t particles = 0;
+    float radius = 0;
+    std::uint32_t groups = 0, isolated = 0;
+    double total_ms = 0;                                  // median graph wall time
+    std::vector<std::pair<std::string, double>> stage_ms;  // medians
+    TriangleMesh mesh;
+    std::uint64_t hash = 0;  // mesh_hash(mesh)
+};
+
+MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& request);
+
+}  // namespace rivulet

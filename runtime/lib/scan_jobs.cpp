@@ -1,0 +1,31 @@
+#include "runtime/lib/scan_jobs.h"
+
+namespace rivulet {
+
+ScanJobIds add_scan_jobs(FrameGraph& g, ScanConverter& scan, std::function<ConstPositions()> positions,
+                         std::function<ScanOutput&()> output, std::initializer_list<FrameGraph::JobId> after) {
+    ScanJobIds id{};
+    auto& s = scan;
+    auto pos = std::move(positions);
+    auto out = std::move(output);
+    const auto begin = g.serial("bin_sort.begin", [&s, pos] { s.begin_frame(pos()); }, after);
+    id.bin_count = g.parallel(
+        "bin_sort.count", [&s] { return std::size_t(s.chunks()); },
+        [&s, pos](std::size_t c) { s.bin_count(pos(), static_cast<std::uint32_t>(c)); }, {begin});
+    id.bin_prefix = g.serial("bin_sort.prefix", [&s] { s.bin_prefix(); }, {id.bin_count});
+    id.bin_scatter = g.parallel(
+        "bin_sort.scatter", [&s] { return std::size_t(s.chunks()); },
+        [&s, pos](std::size_t c) { s.bin_scatter(pos(), static_cast<std::uint32_t>(c)); }, {id.bin_prefix});
+    id.grouping = g.serial("grouping", [&s, pos] { s.group(pos()); }, {id.bin_scatter});
+    id.deform = g.parallel(
+        "deform", [&s] { return std::size_t(s.groups()); },
+        [&s, pos, out](std::size_t gi) { s.deform(pos(), static_cast<std::uint32_t>(gi), out()); }, {id.grouping});
+    id.normals = g.parallel(
+        "normals", [&s] { return std::size_t(s.groups()); },
+        [&s, out](std::size_t gi) { s.normals(static_cast<std::uint32_t>(gi), out()); }, {id.deform});
+    id.isolated = g.serial("isolated", [&s, pos, out] { s.isolated(pos(), out()); }, {id.grouping});
+    id.stage = g.serial("stage", [&s, out] { s.stage(out()); }, {id.normals, id.isolated});
+    return id;
+}
+
+}  // namespace rivulet

@@ -1,0 +1,20 @@
+#pragma once
+// The sphere scan conversion jobs of a frame graph (the seed 000 pipeline), shared by `run` (after the
+// simulation jobs) and `mesh` (alone). See ScanConverter for what each job does.
+#include <functional>
+#include <initializer_list>
+
+#include "runtime/lib/frame_graph.h"
+#include "systems/scan/scan_converter.h"
+
+namespace rivulet {
+
+struct ScanJobIds {
+    FrameGraph::JobId bin_count, bin_prefix, bin_scatter, grouping, deform, normals, isolated, stage;
+};
+
+// `positions` and `output` are asked when each job runs, so they may change between frames (slots).
+ScanJobIds add_scan_jobs(FrameGraph& graph, ScanConverter& scan, std::function<ConstPositions()> positions,
+                         std::function<ScanOutput&()> output, std::initializer_list<FrameGraph::JobId> after = {});
+
+}  // namespace rivulet

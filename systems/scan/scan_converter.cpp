@@ -1,0 +1,147 @@
+#include "systems/scan/scan_converter.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "jobs/cylinder_normals.h"
+#include "jobs/group_lists.h"
+
+namespace rivulet {
+
+ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_particles)
+    : settings_(settings), max_particles_(max_particles) {
+    if (const std::string err = settings.validate(); !err.empty()) throw std::invalid_argument(err);
+    if (max_particles == 0 || max_particles > (std::size_t(1) << 31))
+        throw std::invalid_argument("particle capacity must be in [1, 2^31], got " + std::to_string(max_particles));
+    layout_ = {settings.u, settings.v};
+    grid_.top = settings.v_top;
+    grid_.spacing = (settings.v_top - settings.v_bottom) / static_cast<float>(settings.v - 1);
+    grid_.bins = settings.v;
+    grid_.radius = settings.radius;
+
+    entry_capacity_ = max_particles * std::min<std::size_t>(grid_.max_bins_per_particle(), settings.v);
+    if (entry_capacity_ > (std::size_t(1) << 31))
+        throw std::invalid_argument("particles x cross-sections per particle exceed 2^31 bin entries: lower --v or --radius");
+    max_chunks_ = static_cast<std::uint32_t>((max_particles + kChunk - 1) / kChunk);
+
+    cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
+    for (std::uint32_t k = 0; k < settings.u; ++k) {
+        const double theta = 2.0 * std::numbers::pi * k / settings.u;
+        cos_t_[k] = static_cast<float>(std::cos(theta));
+        sin_t_[k] = static_cast<float>(std::sin(theta));
+    }
+    chunk_counts_.reserve(std::size_t(max_chunks_) * grid_.bins);
+    chunk_cursors_.reserve(std::size_t(max_chunks_) * grid_.bins);
+    bin_offsets_.reserve(grid_.bins + 1);
+    bin_entries_.reserve(entry_capacity_);
+    group_of_.reserve(max_particles);
+    blocked_bin_.reserve(settings.max_groups);
+    // A bin holds each particle at most once, so max_particles bounds every bin.
+    const std::size_t slots = grouping_hash_slots(static_cast<std::uint32_t>(max_particles));
+    for (int i = 0; i < 2; ++i) hash_start_[i].reserve(slots + 1), hash_items_[i].reserve(max_particles);
+    list_offsets_.reserve(settings.max_groups + 1);
+    list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
+    vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups), list_cursor_.reserve(settings.max_groups);
+    circle_cx_.reserve(entry_capacity_), circle_cz_.reserve(entry_capacity_), circle_rho_.reserve(entry_capacity_);
+}
+
+void ScanConverter::prepare_output(ScanOutput& out) const {
+    out.vertices.reserve(std::size_t(settings_.max_groups) * layout_.verts_per_cylinder() * 6);
+    out.draws.reserve(settings_.max_groups);
+    out.sphere_centers.reserve(max_particles_ * 3);
+}
+
+void ScanConverter::begin_frame(ConstPositions p) {
+    if (p.size() > max_particles_)
+        throw std::length_error("scan conversion capacity " + std::to_string(max_particles_) + " exceeded by " +
+                                std::to_string(p.size()) + " particles");
+    particles_ = p.size();
+    chunks_ = static_cast<std::uint32_t>((particles_ + kChunk - 1) / kChunk);
+    grouping_ = {};
+}
+
+void ScanConverter::bin_count(ConstPositions p, std::uint32_t chunk) {
+    const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
+    bin_count_chunk(grid_, p.y.subspan(begin, end - begin), chunk_counts_.span(chunk_counts_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins));
+}
+
+void ScanConverter::bin_prefix() {
+    entries_ = rivulet::bin_prefix(grid_.bins, chunks_, chunk_counts_.span(std::size_t(chunks_) * grid_.bins),
+                                   chunk_cursors_.span(std::size_t(chunks_) * grid_.bins),
+                                   bin_offsets_.span(grid_.bins + 1));
+}
+
+void ScanConverter::bin_scatter(ConstPositions p, std::uint32_t chunk) {
+    const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
+    bin_scatter_chunk(grid_, p.y.subspan(begin, end - begin), static_cast<std::uint32_t>(begin),
+                      chunk_cursors_.span(chunk_cursors_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins),
+                      bin_entries_.span(entry_capacity_));
+}
+
+BinTableView ScanConverter::bins() const {
+    return {bin_offsets_.span(grid_.bins + 1), bin_entries_.span(entries_)};
+}
+
+void ScanConverter::group(ConstPositions p) {
+    const BinTableView table = bins();
+    std::uint32_t largest = 0;
+    for (std::uint32_t b = 0; b < grid_.bins; ++b) largest = std::max(largest, table.bin_size(b));
+    const std::size_t slots = grouping_hash_slots(largest);
+    GroupingScratch scratch{blocked_bin_.span(settings_.max_groups),
+                            {hash_start_[0].span(slots + 1), hash_start_[1].span(slots + 1)},
+                            {hash_items_[0].span(largest), hash_items_[1].span(largest)}};
+    const GroupingParams params{settings_.grouping_distance(), settings_.max_groups};
+    grouping_ = group_particles(p, table, params, group_of_.span(particles_), scratch);
+    build_group_lists(table, group_of_.span(particles_), grouping_.groups,
+                      {list_offsets_.span(grouping_.groups + 1), list_bin_.span(entries_), list_particle_.span(entries_),
+                       vmin_.span(grouping_.groups), vmax_.span(grouping_.groups),
+                       list_cursor_.span(grouping_.groups)});
+}
+
+void ScanConverter::deform(ConstPositions p, std::uint32_t g, ScanOutput& out) {
+    const std::uint32_t begin = list_offsets_[g], n = list_offsets_[g + 1] - begin;
+    const DeformParams params{grid_, layout_, settings_.section,
+                              {cos_t_.span(settings_.u), sin_t_.span(settings_.u)}};
+    const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
+    deform_cylinder(p, list_bin_.span(entries_).subspan(begin, n), list_particle_.span(entries_).subspan(begin, n),
+                    params, circle_cx_.span(entries_).subspan(begin, n), circle_cz_.span(entries_).subspan(begin, n),
+                    circle_rho_.span(entries_).subspan(begin, n),
+                    out.vertices.span(out.vertices.capacity()).subspan(g * vpc, vpc));
+}
+
+void ScanConverter::normals(std::uint32_t g, ScanOutput& out) {
+    const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
+    cylinder_normals(layout_, vmin_[g], vmax_[g], out.vertices.span(out.vertices.capacity()).subspan(g * vpc, vpc));
+}
+
+void ScanConverter::isolated(ConstPositions p, ScanOutput& out) {
+    out.sphere_count = collect_isolated(p, group_of_.span(particles_), out.sphere_centers.span(particles_ * 3));
+}
+
+void ScanConverter::stage(ScanOutput& out) {
+    std::uint64_t triangles = 0;
+    for (std::uint32_t g = 0; g < grouping_.groups; ++g) {
+        out.draws[g] = {g, vmin_[g], vmax_[g]};
+        triangles += 2ull * layout_.u * (vmax_[g] - vmin_[g]) + 2ull * layout_.u;
+    }
+    out.draw_count = grouping_.groups;
+    out.bin_entries = entries_;
+    out.pool_exhausted = grouping_.pool_exhausted;
+    out.triangles = triangles;
+}
+
+void ScanConverter::extract_serial(ConstPositions p, ScanOutput& out) {
+    begin_frame(p);
+    for (std::uint32_t c = 0; c < chunks_; ++c) bin_count(p, c);
+    bin_prefix();
+    for (std::uint32_t c = 0; c < chunks_; ++c) bin_scatter(p, c);
+    group(p);
+    for (std::uint32_t g = 0; g < groups(); ++g) deform(p, g, out);
+    for (std::uint32_t g = 0; g < groups(); ++g) normals(g, out);
+    isolated(p, out);
+    stage(out);
+}
+
+}  // namespace rivulet

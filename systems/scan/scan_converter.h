@@ -1,0 +1,83 @@
+#pragma once
+// Sphere scan conversion as a system (seed 000 §2): owns the persistent buffers (bins, group lists,
+// circle scratch, angle tables) sized once for a particle capacity, and exposes the per-frame jobs the
+// frame graph schedules, in this order:
+//
+//   bin_count(chunk)*  -> bin_prefix -> bin_scatter(chunk)*      hash sort into V bins  (jobs/bin_sort.h)
+//   -> group                                                      grouping + group lists (jobs/grouping.h, group_lists.h)
+//   -> deform(group)*  -> normals(group)*                         per cylinder           (jobs/deform_cylinder.h, cylinder_normals.h)
+//   -> isolated (beside deform)                                   sphere instances       (jobs/group_lists.h)
+//   -> stage                                                      draw list, counters
+//   (* = independent items, run in parallel)
+//
+// extract_serial() runs the same jobs in order on the calling thread.
+#include <cstdint>
+
+#include "jobs/bin_sort.h"
+#include "jobs/cylinder_layout.h"
+#include "jobs/deform_cylinder.h"
+#include "jobs/grouping.h"
+#include "jobs/particle_spans.h"
+#include "systems/particles/aligned_array.h"
+#include "systems/scan/scan_output.h"
+#include "systems/scan/scan_settings.h"
+
+namespace rivulet {
+
+class ScanConverter {
+public:
+    static constexpr std::uint32_t kChunk = 4096;  // particles per bin-sort chunk
+
+    // Throws std::invalid_argument when settings.validate() fails.
+    ScanConverter(const ScanSettings& settings, std::size_t max_particles);
+
+    const ScanSettings& settings() const { return settings_; }
+    const CylinderLayout& layout() const { return layout_; }
+    const BinGrid& grid() const { return grid_; }
+    std::size_t max_particles() const { return max_particles_; }
+    // Sizes a slot's output buffers for this converter (allocates: call at setup).
+    void prepare_output(ScanOutput& out) const;
+
+    // ---- per-frame jobs; `p` must be the same positions for every job of a frame ----
+    void begin_frame(ConstPositions p);  // checks the count against capacity, sets chunk count
+    std::uint32_t chunks() const { return chunks_; }
+    void bin_count(ConstPositions p, std::uint32_t chunk);
+    void bin_prefix();
+    void bin_scatter(ConstPositions p, std::uint32_t chunk);
+    void group(ConstPositions p);
+    std::uint32_t groups() const { return grouping_.groups; }
+    void deform(ConstPositions p, std::uint32_t group, ScanOutput& out);
+    void normals(std::uint32_t group, ScanOutput& out);
+    void isolated(ConstPositions p, ScanOutput& out);
+    void stage(ScanOutput& out);
+
+    void extract_serial(ConstPositions p, ScanOutput& out);
+
+    BinTableView bins() const;
+    std::span<const std::int32_t> group_of() const { return group_of_.span(particles_); }
+    GroupingResult grouping_result() const { return grouping_; }
+    std::uint32_t group_vmin(std::uint32_t g) const { return vmin_[g]; }
+    std::uint32_t group_vmax(std::uint32_t g) const { return vmax_[g]; }
+
+private:
+    ScanSettings settings_;
+    CylinderLayout layout_;
+    BinGrid grid_;
+    std::size_t max_particles_;
+    std::size_t entry_capacity_;
+    std::uint32_t max_chunks_;
+
+    std::size_t particles_ = 0;
+    std::uint32_t chunks_ = 0;
+    std::uint32_t entries_ = 0;
+    GroupingResult grouping_;
+
+    AlignedArray<float> cos_t_, sin_t_;
+    AlignedArray<std::uint32_t> chunk_counts_, chunk_cursors_, bin_offsets_, bin_entries_;
+    AlignedArray<std::int32_t> group_of_;
+    AlignedArray<std::uint32_t> blocked_bin_, hash_start_[2], hash_items_[2];
+    AlignedArray<std::uint32_t> list_offsets_, list_bin_, list_particle_, vmin_, vmax_, list_cursor_;
+    AlignedArray<float> circle_cx_, circle_cz_, circle_rho_;
+};
+
+}  // namespace rivulet
