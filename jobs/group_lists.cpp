@@ -2,23 +2,25 @@
 
 namespace rivulet {
 
-void build_group_lists(BinTableView bins, std::span<const std::int32_t> group_of, std::uint32_t groups,
+void build_group_lists(BinTableView bins, std::span<const std::int32_t> entry_group, std::uint32_t groups,
                        const GroupListsOut& out) {
     for (std::uint32_t g = 0; g <= groups; ++g) out.offsets[g] = 0;
-    for (std::uint32_t e : bins.entries)
-        if (group_of[e] >= 0) ++out.offsets[group_of[e] + 1];
+    for (auto& f : out.grouped) f = 0;
+    for (std::int32_t g : entry_group)
+        if (g >= 0) ++out.offsets[g + 1];
     for (std::uint32_t g = 0; g < groups; ++g) {
         out.offsets[g + 1] += out.offsets[g];
         out.cursor[g] = out.offsets[g];
     }
     const std::uint32_t nbins = static_cast<std::uint32_t>(bins.offsets.size()) - 1;
     for (std::uint32_t b = 0; b < nbins; ++b) {
-        for (std::uint32_t e : bins.bin(b)) {
-            const std::int32_t g = group_of[e];
+        for (std::uint32_t e = bins.offsets[b]; e < bins.offsets[b + 1]; ++e) {
+            const std::int32_t g = entry_group[e];
             if (g < 0) continue;
             const std::uint32_t slot = out.cursor[g]++;
             out.bin[slot] = b;
-            out.particle[slot] = e;
+            out.particle[slot] = bins.entries[e];
+            out.grouped[bins.entries[e]] = 1;
         }
     }
     for (std::uint32_t g = 0; g < groups; ++g) {
@@ -28,10 +30,10 @@ void build_group_lists(BinTableView bins, std::span<const std::int32_t> group_of
     }
 }
 
-std::uint32_t collect_isolated(ConstPositions p, std::span<const std::int32_t> group_of, std::span<float> centers) {
+std::uint32_t collect_isolated(ConstPositions p, std::span<const std::uint8_t> grouped, std::span<float> centers) {
     std::uint32_t n = 0;
-    for (std::size_t i = 0; i < group_of.size(); ++i) {
-        if (group_of[i] >= 0) continue;
+    for (std::size_t i = 0; i < grouped.size(); ++i) {
+        if (grouped[i]) continue;
         centers[3 * n] = p.x[i], centers[3 * n + 1] = p.y[i], centers[3 * n + 2] = p.z[i];
         ++n;
     }

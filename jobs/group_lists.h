@@ -16,13 +16,15 @@ struct GroupListsOut {
     std::span<std::uint32_t> particle;  // per entry: particle index
     std::span<std::uint32_t> vmin, vmax;  // per group: first and last ring
     std::span<std::uint32_t> cursor;    // scratch, groups slots
+    std::span<std::uint8_t> grouped;    // per particle: 1 when any of its entries joined a group
 };
 
-void build_group_lists(BinTableView bins, std::span<const std::int32_t> group_of, std::uint32_t groups,
+// entry_group[e]: group of bins.entries[e] (grouping.h).
+void build_group_lists(BinTableView bins, std::span<const std::int32_t> entry_group, std::uint32_t groups,
                        const GroupListsOut& out);
 
-// Writes xyz of every isolated particle (group_of < 0) in particle order; returns how many.
-std::uint32_t collect_isolated(ConstPositions particles, std::span<const std::int32_t> group_of,
+// Writes xyz of every particle that joined no group, in particle order; returns how many.
+std::uint32_t collect_isolated(ConstPositions particles, std::span<const std::uint8_t> grouped,
                                std::span<float> centers_xyz);
 
 }  // namespace rivulet

@@ -7,7 +7,6 @@
 namespace rivulet {
 namespace {
 
-constexpr std::int32_t kUnvisited = -2;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 // Below this many entries a linear scan of the bin beats building its hash.
 constexpr std::uint32_t kLinearScanMax = 48;
@@ -35,10 +34,11 @@ public:
     }
 
     // Lowest bin position within the 3x3 cells around `pj`'s cell accepted by `accept(pos)`.
+    // Only positions below `limit` count (for the current bin: entries placed before pj).
     template <class Accept>
-    std::uint32_t first_match(ConstPositions p, std::uint32_t pj, Accept&& accept) const {
+    std::uint32_t first_match(ConstPositions p, std::uint32_t pj, std::uint32_t limit, Accept&& accept) const {
         const CellCoord c = cell_of(p, pj);
-        std::uint32_t best = kNone;
+        std::uint32_t best = limit;
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
             for (std::int64_t dx = -1; dx <= 1; ++dx) {
                 const std::uint32_t b = bucket({c.x + dx, c.z + dz});
@@ -52,7 +52,7 @@ public:
                 }
             }
         }
-        return best;
+        return best == limit ? kNone : best;
     }
 
 private:
@@ -72,23 +72,17 @@ private:
 
 class Grouper {
 public:
-    Grouper(ConstPositions p, BinTableView bins, const GroupingParams& params, std::span<std::int32_t> group_of,
+    Grouper(ConstPositions p, BinTableView bins, const GroupingParams& params, std::span<std::int32_t> entry_group,
             const GroupingScratch& s)
-        : p_(p), bins_(bins), params_(params), group_of_(group_of), blocked_bin_(s.blocked_bin),
+        : p_(p), bins_(bins), params_(params), group_(entry_group), blocked_bin_(s.blocked_bin),
           eps2_(params.epsilon * params.epsilon),
           hashes_{BinHash(s.hash_start[0], s.hash_items[0]), BinHash(s.hash_start[1], s.hash_items[1])} {}
 
     GroupingResult run() {
-        for (auto& g : group_of_) g = kUnvisited;
         const std::uint32_t nbins = static_cast<std::uint32_t>(bins_.offsets.size()) - 1;
         for (std::uint32_t i = 0; i < params_.max_groups; ++i) blocked_bin_[i] = kNone;
         for (std::uint32_t b = 0; b < nbins; ++b) group_bin(b);
-        for (auto& g : group_of_) {
-            if (g < 0) {
-                g = kIsolated;
-                ++result_.isolated;
-            }
-        }
+        for (std::int32_t g : group_) result_.isolated_entries += g < 0 ? 1u : 0u;
         return result_;
     }
 
@@ -100,87 +94,70 @@ private:
 
     // Position in `bin` of the first entry accepted, scanning linearly or through the bin's hash.
     template <class Accept>
-    std::uint32_t first_in(std::span<const std::uint32_t> bin, const BinHash* hash, std::uint32_t pj,
-                           Accept&& accept) const {
+    std::uint32_t first_in(std::span<const std::uint32_t> bin, std::uint32_t limit, const BinHash* hash,
+                           std::uint32_t pj, Accept&& accept) const {
         if (!hash) {
-            for (std::uint32_t pos = 0; pos < bin.size(); ++pos)
+            for (std::uint32_t pos = 0; pos < limit; ++pos)
                 if (accept(pos)) return pos;
             return kNone;
         }
-        return hash->first_match(p_, pj, accept);
+        (void)bin;
+        return hash->first_match(p_, pj, limit, accept);
     }
 
-    bool new_group(std::uint32_t pj, std::uint32_t pk, std::uint32_t bin) {
+    std::int32_t new_group(std::uint32_t pk_entry, std::uint32_t bin) {
         if (result_.groups >= params_.max_groups) {
             ++result_.pool_exhausted;
-            return false;
+            return kIsolated;
         }
         const auto g = static_cast<std::int32_t>(result_.groups++);
-        group_of_[pj] = group_of_[pk] = g;
+        group_[pk_entry] = g;
         blocked_bin_[g] = bin;
-        return true;
+        return g;
     }
 
     void group_bin(std::uint32_t b) {
+        const std::uint32_t cur_base = bins_.offsets[b];
         const auto cur = bins_.bin(b);
+        const std::uint32_t prev_base = b > 0 ? bins_.offsets[b - 1] : 0;
         const auto prev = b > 0 ? bins_.bin(b - 1) : std::span<const std::uint32_t>{};
-        const float inv_cell = 1.0f / params_.epsilon;
         const BinHash* cur_hash = nullptr;
         if (cur.size() > kLinearScanMax) {
             BinHash& h = hashes_[b & 1];
-            h.build(p_, cur, inv_cell);
+            h.build(p_, cur, 1.0f / params_.epsilon);
             cur_hash = &h;
         }
         // The previous bin's hash was built last iteration into the other table.
         const BinHash* prev_hash = prev.size() > kLinearScanMax ? &hashes_[(b + 1) & 1] : nullptr;
 
-        // Groups continuing from above are present in this bin: block them before placing anyone.
-        for (std::uint32_t e : cur)
-            if (group_of_[e] >= 0) blocked_bin_[group_of_[e]] = b;
-
-        for (std::uint32_t e : cur) {
-            if (group_of_[e] != kUnvisited) continue;
-            place(e, b, cur, cur_hash, prev, prev_hash);
-        }
-    }
-
-    void place(std::uint32_t pj, std::uint32_t b, std::span<const std::uint32_t> cur, const BinHash* cur_hash,
-               std::span<const std::uint32_t> prev, const BinHash* prev_hash) {
-        const std::uint32_t c = first_in(cur, cur_hash, pj, [&](std::uint32_t pos) {
-            const std::uint32_t pk = cur[pos];
-            return pk != pj && group_of_[pk] != kUnvisited && near(pj, pk);
-        });
-        if (c != kNone) {
-            const std::uint32_t pk = cur[c];
-            if (group_of_[pk] >= 0) {
-                group_of_[pj] = group_of_[pk];
-            } else if (!new_group(pj, pk, b)) {
-                group_of_[pj] = kIsolated;
+        for (std::uint32_t j = 0; j < cur.size(); ++j) {
+            const std::uint32_t pj = cur[j];
+            std::int32_t& gj = group_[cur_base + j];
+            const std::uint32_t c = first_in(cur, j, cur_hash, pj, [&](std::uint32_t pos) { return near(pj, cur[pos]); });
+            if (c != kNone) {
+                const std::int32_t gk = group_[cur_base + c];
+                gj = gk >= 0 ? gk : new_group(cur_base + c, b);
+            } else {
+                const auto np = static_cast<std::uint32_t>(prev.size());
+                const std::uint32_t q = first_in(prev, np, prev_hash, pj, [&](std::uint32_t pos) { return near(pj, prev[pos]); });
+                if (q == kNone) {
+                    gj = kIsolated;
+                } else if (const std::int32_t gk = group_[prev_base + q]; gk < 0) {
+                    gj = new_group(prev_base + q, b);
+                } else if (blocked_bin_[gk] == b) {
+                    gj = kIsolated;
+                } else {
+                    gj = gk;
+                    blocked_bin_[gk] = b;
+                }
             }
-            return;
-        }
-        const std::uint32_t q =
-            first_in(prev, prev_hash, pj, [&](std::uint32_t pos) { return near(pj, prev[pos]); });
-        if (q == kNone) {
-            group_of_[pj] = kIsolated;
-            return;
-        }
-        const std::uint32_t pk = prev[q];
-        const std::int32_t gk = group_of_[pk];
-        if (gk < 0) {
-            if (!new_group(pj, pk, b)) group_of_[pj] = kIsolated;
-        } else if (blocked_bin_[gk] == b) {
-            group_of_[pj] = kIsolated;
-        } else {
-            group_of_[pj] = gk;
-            blocked_bin_[gk] = b;
         }
     }
 
     ConstPositions p_;
     BinTableView bins_;
     GroupingParams params_;
-    std::span<std::int32_t> group_of_;
+    std::span<std::int32_t> group_;
     std::span<std::uint32_t> blocked_bin_;
     float eps2_;
     BinHash hashes_[2];
@@ -193,9 +170,9 @@ std::size_t grouping_hash_slots(std::uint32_t max_bin_size) {
     return std::bit_ceil(std::size_t(max_bin_size) * 2u + 1u);
 }
 
-GroupingResult group_particles(ConstPositions particles, BinTableView bins, const GroupingParams& params,
-                               std::span<std::int32_t> group_of, const GroupingScratch& scratch) {
-    return Grouper(particles, bins, params, group_of, scratch).run();
+GroupingResult group_entries(ConstPositions particles, BinTableView bins, const GroupingParams& params,
+                             std::span<std::int32_t> entry_group, const GroupingScratch& scratch) {
+    return Grouper(particles, bins, params, entry_group, scratch).run();
 }
 
 }  // namespace rivulet

@@ -1,18 +1,18 @@
 #pragma once
 // Grouping of binned particles into streams (seed 000 §2.2), exactly as the seed's pseudocode, scanning
-// bins top to bottom:
-//   for each new particle pj of bin i (in bin order):
-//     the first visited pk of bin i within eps: isolated -> new group {pj, pk}; grouped -> join Gk;
-//     else the first pk of bin i-1 within eps: isolated -> new group {pj, pk};
-//                                              Gk blocked -> pj isolated; else join Gk and block Gk;
+// bins top to bottom. The unit is a bin entry (a particle's circle in one cross-section): a particle
+// whose sphere cuts several planes has an entry in each, and "for each pj in bin vi" visits entries.
+//   for each entry pj of bin i, in bin order:
+//     the first earlier entry pk of bin i within eps: isolated -> new group {pj, pk}; grouped -> join Gk;
+//     else the first entry pk of bin i-1 within eps: isolated -> new group {pj, pk};
+//                                                     Gk blocked -> pj isolated; else join Gk, block Gk;
 //     else pj is isolated.
 //   clear all blocks.
-// Decisions this implementation makes where the pseudocode is silent (docs/scan_conversion.md):
-//  - A particle spans several bins; it is grouped once, in the first (top) bin it appears in.
-//  - A group that already has a particle continuing into bin i is blocked in bin i before any new
-//    particle is placed, so an arch cannot be wrapped down both legs whatever the order within the bin.
-//  - A group created through the previous bin is blocked too (it now has a member in this bin).
-//  - When the cylinder pool is exhausted the particle stays isolated and the shortage is counted.
+// Decisions where the pseudocode is silent (docs/scan_conversion.md):
+//  - A group created through an isolated entry of bin i-1 is blocked in bin i as well: like a join, it
+//    extends a group from the previous bin, and a second cluster must not follow it.
+//  - When the cylinder pool is exhausted the entry stays isolated and the shortage is counted.
+//  - A particle none of whose entries joined a group is an isolated particle (drawn as a sphere).
 // "First" always means lowest position in bin order, so the result depends only on the input. Large
 // bins are searched through a 2D hash of cell size eps, with the same result as a linear scan.
 #include <cstdint>
@@ -39,15 +39,15 @@ struct GroupingScratch {
 };
 
 struct GroupingResult {
-    std::uint32_t groups = 0;          // groups created: ids [0, groups)
-    std::uint32_t isolated = 0;        // particles left isolated (including those in no bin)
-    std::uint32_t pool_exhausted = 0;  // particles isolated only because no cylinder was left
+    std::uint32_t groups = 0;            // groups created: ids [0, groups)
+    std::uint32_t isolated_entries = 0;  // entries left isolated
+    std::uint32_t pool_exhausted = 0;    // entries isolated only because no cylinder was left
 };
 
 std::size_t grouping_hash_slots(std::uint32_t max_bin_size);
 
-// group_of[p] receives p's group id or kIsolated.
-GroupingResult group_particles(ConstPositions particles, BinTableView bins, const GroupingParams& params,
-                               std::span<std::int32_t> group_of, const GroupingScratch& scratch);
+// entry_group[e] receives the group of bins.entries[e], or kIsolated.
+GroupingResult group_entries(ConstPositions particles, BinTableView bins, const GroupingParams& params,
+                             std::span<std::int32_t> entry_group, const GroupingScratch& scratch);
 
 }  // namespace rivulet

@@ -36,7 +36,8 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     chunk_cursors_.reserve(std::size_t(max_chunks_) * grid_.bins);
     bin_offsets_.reserve(grid_.bins + 1);
     bin_entries_.reserve(entry_capacity_);
-    group_of_.reserve(max_particles);
+    entry_group_.reserve(entry_capacity_);
+    grouped_.reserve(max_particles);
     blocked_bin_.reserve(settings.max_groups);
     // A bin holds each particle at most once, so max_particles bounds every bin.
     const std::size_t slots = grouping_hash_slots(static_cast<std::uint32_t>(max_particles));
@@ -93,11 +94,11 @@ void ScanConverter::group(ConstPositions p) {
                             {hash_start_[0].span(slots + 1), hash_start_[1].span(slots + 1)},
                             {hash_items_[0].span(largest), hash_items_[1].span(largest)}};
     const GroupingParams params{settings_.grouping_distance(), settings_.max_groups};
-    grouping_ = group_particles(p, table, params, group_of_.span(particles_), scratch);
-    build_group_lists(table, group_of_.span(particles_), grouping_.groups,
+    grouping_ = group_entries(p, table, params, entry_group_.span(entries_), scratch);
+    build_group_lists(table, entry_group_.span(entries_), grouping_.groups,
                       {list_offsets_.span(grouping_.groups + 1), list_bin_.span(entries_), list_particle_.span(entries_),
                        vmin_.span(grouping_.groups), vmax_.span(grouping_.groups),
-                       list_cursor_.span(grouping_.groups)});
+                       list_cursor_.span(grouping_.groups), grouped_.span(particles_)});
 }
 
 void ScanConverter::deform(ConstPositions p, std::uint32_t g, ScanOutput& out) {
@@ -117,7 +118,7 @@ void ScanConverter::normals(std::uint32_t g, ScanOutput& out) {
 }
 
 void ScanConverter::isolated(ConstPositions p, ScanOutput& out) {
-    out.sphere_count = collect_isolated(p, group_of_.span(particles_), out.sphere_centers.span(particles_ * 3));
+    out.sphere_count = collect_isolated(p, grouped_.span(particles_), out.sphere_centers.span(particles_ * 3));
 }
 
 void ScanConverter::stage(ScanOutput& out) {

@@ -54,7 +54,8 @@ public:
     void extract_serial(ConstPositions p, ScanOutput& out);
 
     BinTableView bins() const;
-    std::span<const std::int32_t> group_of() const { return group_of_.span(particles_); }
+    std::span<const std::int32_t> entry_group() const { return entry_group_.span(entries_); }
+    std::span<const std::uint8_t> grouped() const { return grouped_.span(particles_); }
     GroupingResult grouping_result() const { return grouping_; }
     std::uint32_t group_vmin(std::uint32_t g) const { return vmin_[g]; }
     std::uint32_t group_vmax(std::uint32_t g) const { return vmax_[g]; }
@@ -74,7 +75,8 @@ private:
 
     AlignedArray<float> cos_t_, sin_t_;
     AlignedArray<std::uint32_t> chunk_counts_, chunk_cursors_, bin_offsets_, bin_entries_;
-    AlignedArray<std::int32_t> group_of_;
+    AlignedArray<std::int32_t> entry_group_;
+    AlignedArray<std::uint8_t> grouped_;
     AlignedArray<std::uint32_t> blocked_bin_, hash_start_[2], hash_items_[2];
     AlignedArray<std::uint32_t> list_offsets_, list_bin_, list_particle_, vmin_, vmax_, list_cursor_;
     AlignedArray<float> circle_cx_, circle_cz_, circle_rho_;

@@ -42,6 +42,8 @@ struct PoolDesc {
     float wave_speed = 1.0f;       // m/s
     float damping = 0.5f;          // 1/s
     float impulse_scale = 0.002f;  // depth change per unit of particle downward momentum
+    float max_dip = 0.05f;         // impulses never push the surface further than this below `level`
+    float drain = 0.3f;            // 1/s: the water the streams bring drains away, so the mean level holds
 };
 
 struct CameraDesc {

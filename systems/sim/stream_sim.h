@@ -8,8 +8,10 @@
 // One frame = begin_frame (serial) -> integrate over any split of [0, size) (parallel) -> end_frame (serial).
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "jobs/ballistic_step.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/frame_view.h"
@@ -20,16 +22,17 @@ namespace rivulet {
 class HeightFieldPool;
 
 class StreamSimulation {
-public:
+  public:
     // Preallocates everything for scene.max_particles; nothing allocates per frame afterwards.
     explicit StreamSimulation(const SceneDesc& scene);
     ~StreamSimulation();
 
-    // Recycles particles older than the lifetime, emits this frame's new particles (appended at the end).
+    // Emits this frame's new particles (appended at the end; none once the set or max_particles is full).
     void begin_frame(ParticleSet& particles, std::uint64_t frame);
     // Advances particles [begin, end) by one frame (scene.substeps substeps); records pool hits per particle.
     void integrate(ParticleSet& particles, std::size_t begin, std::size_t end);
-    // Applies recorded pool hits in particle order, removes absorbed particles (stable), steps the pool.
+    // Applies recorded pool hits in particle order, removes absorbed and recycled particles (stable: too
+    // old, resting on the ground, or lost) and steps the pool. Every index must have been integrated.
     void end_frame(ParticleSet& particles);
 
     // Runs begin/integrate/end serially: for warm-up, tests and tools.
@@ -39,16 +42,26 @@ public:
     const SceneDesc& scene() const { return scene_; }
     std::uint32_t next_id() const { return next_id_; }
 
-private:
+  private:
+    // Orthonormal frame of an emitter's direction, for the cone and nozzle-disk jitter.
+    struct EmitterFrame {
+        Vec3f axis, side, up;
+    };
+
     SceneDesc scene_;
     std::uint32_t next_id_ = 0;
-    double emit_carry_ = 0;  // fractional particles owed by the emitters
-    AlignedArray<float> birth_time_;  // indexed by particle id % capacity? no: per slot, see .cpp
-    AlignedArray<std::uint8_t> absorbed_;
+    std::uint32_t tick_ = 0;     // frames completed; birth stamps are taken from it
+    std::size_t stamped_ = 0;    // leading particles whose birth stamp is known
+    std::vector<double> carry_;  // per emitter: fraction of a particle owed from earlier frames
+    std::vector<EmitterFrame> frames_;
+    std::vector<SphereObstacle> spheres_;
+    std::vector<BoxObstacle> boxes_;
+    // Per particle index, compacted with the ParticleSet in end_frame.
+    AlignedArray<std::uint32_t> birth_;
+    AlignedArray<std::uint8_t> fate_;
     AlignedArray<float> hit_x_, hit_z_, hit_momentum_;
-    std::vector<char> pool_storage_;  // owned pool, see HeightFieldPool
-    HeightFieldPool* pool_ = nullptr;
-    double time_ = 0;
+    std::unique_ptr<HeightFieldPool> pool_;  // null when the scene has no pool
+    BallisticParams params_;
 };
 
 }  // namespace rivulet

@@ -1,0 +1,34 @@
+#pragma once
+// Output file for the writers. Write failures (disk full, I/O error) surface as FileFormatError at the
+// latest in commit(), which checks the close; a file that was never committed is removed so a failed
+// write leaves no truncated file that a later run could mistake for a finished frame.
+#include <cstddef>
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+namespace rivulet::io {
+
+class OutputFile {
+  public:
+    explicit OutputFile(std::string path);
+    ~OutputFile();
+    OutputFile(const OutputFile&) = delete;
+    OutputFile& operator=(const OutputFile&) = delete;
+
+    void write(const void* data, std::size_t n);
+    void write(std::string_view text) { write(text.data(), text.size()); }
+    // Flushes and closes; throws if any byte did not reach the file.
+    void commit();
+
+    [[noreturn]] void fail(std::string_view what) const;
+
+  private:
+    void discard() noexcept;
+
+    std::string path_;
+    std::FILE* file_ = nullptr;
+    bool regular_ = false;  // only regular files are removed on failure, never a device or pipe
+};
+
+}  // namespace rivulet::io
