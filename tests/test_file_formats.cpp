@@ -136,6 +136,17 @@ TEST(ParticleIo, BigEndianPlyWithDoublesExtraPropertyAndFaces) {
                  {1.25f, -2.5f, static_cast<float>(1e-3), 100.0f, static_cast<float>(0.1), -7.0f});
 }
 
+TEST(ParticleIo, BigEndianFloatsAmongOtherProperties) {
+    std::string s =
+        "ply\nformat binary_big_endian 1.0\nelement vertex 2\nproperty float z\nproperty short id\n"
+        "property float x\nproperty float y\nproperty double w\nend_header\n";
+    for (int i = 0; i < 2; ++i) {
+        append_be(s, 3.5f + static_cast<float>(i)), append_be<std::int16_t>(s, 9), append_be(s, -1.25f);
+        append_be(s, 2.0f * static_cast<float>(i)), append_be(s, 1e300);
+    }
+    expect_cloud(read_particles(write_file("be_float.ply", s)), {-1.25f, 0, 3.5f, -1.25f, 2, 4.5f});
+}
+
 TEST(ParticleIo, LittleEndianIntegerCoordinates) {
     std::string s =
         "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty short x\nproperty int32 y\n"

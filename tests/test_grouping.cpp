@@ -171,7 +171,9 @@ TEST(Grouping, GroupListsHoldEachGroupsEntriesInRingOrder) {
     for (std::uint32_t grp = 0; grp < r.groups; ++grp) {
         for (std::uint32_t e = off[grp]; e < off[grp + 1]; ++e) {
             EXPECT_EQ(g[part[e]], static_cast<std::int32_t>(grp));
-            if (e > off[grp]) EXPECT_LE(bin[e - 1], bin[e]);
+            if (e > off[grp]) {
+                EXPECT_LE(bin[e - 1], bin[e]);
+            }
         }
     }
     EXPECT_EQ(vmin[static_cast<std::size_t>(g[A])], 0u);

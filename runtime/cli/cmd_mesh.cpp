@@ -43,9 +43,15 @@ int run(const MeshOptions& o) {
     if (o.repeat < 1 || o.repeat > 100000) throw std::invalid_argument(fmt::format("--repeat must be in [1, 100000], got {}", o.repeat));
     if (o.threads < 0 || o.threads > 1024) throw std::invalid_argument(fmt::format("--threads must be in [0, 1024], got {}", o.threads));
     if (o.radius < 0 || !std::isfinite(o.radius)) throw std::invalid_argument(fmt::format("--radius must be positive, got {}", o.radius));
-    ThreadControl threads(o.threads);
     MeshRequest req;
     req.scan = o.scan.resolve();
+    {
+        // Check the options before reading any file; radius and V extent come with the particles.
+        ScanSettings probe = req.scan;
+        probe.radius = 1, probe.v_top = 1, probe.v_bottom = 0;
+        if (const std::string err = probe.validate(); !err.empty()) throw std::invalid_argument(err);
+    }
+    ThreadControl threads(o.threads);
     req.radius = o.radius;
     req.repeat = o.repeat;
 

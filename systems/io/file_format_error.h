@@ -6,7 +6,7 @@
 namespace rivulet {
 
 class FileFormatError : public std::runtime_error {
-public:
+  public:
     using runtime_error::runtime_error;
 };
 

@@ -50,7 +50,8 @@ void skip_element(InputFile& in, const PlyHeader& h, const PlyElement& e) {
     in.skip(e.count * stride);
 }
 
-// The common all-float layout skips the per-value decoder call; it dominates the cost of big reads.
+// The common all-float layout avoids the indirect decoder call per value, which would otherwise dominate
+// the decode of large files.
 template <bool BigEndian>
 void decode_float_records(const std::byte* buf, std::size_t count, std::size_t stride,
                           const std::size_t* offset, ParticleCloud& cloud) {

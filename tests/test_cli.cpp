@@ -1,0 +1,99 @@
+// The command line as users' scripts see it (DESIGN §4): JSON keys, exit codes, clear errors.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include "support/test_support.h"
+#include "systems/io/particle_io.h"
+
+namespace {
+
+struct Result {
+    int status = -1;
+    std::string output;  // stdout and stderr together
+};
+
+Result run_cli(const std::string& args) {
+    Result r;
+    const std::string cmd = std::string(RIVULET_CLI) + " " + args + " 2>&1";
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf{};
+    while (std::fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
+    const int raw = ::pclose(pipe);
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return r;
+}
+
+nlohmann::json read_json(const std::string& path) {
+    std::ifstream f(path);
+    return nlohmann::json::parse(f);
+}
+
+void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+}  // namespace
+
+TEST(Cli, RunWritesTheTimingJsonAndPictures) {
+    const std::string json = rivulet::test::temp_path("run.json"), out = rivulet::test::temp_path("frames");
+    const Result r = run_cli("run --frames 3 --threads 2 --size 160x90 --warmup 20 --out " + out + " --json " + json);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("frames/s"), std::string::npos);
+    const auto j = read_json(json);
+    EXPECT_EQ(j["frames"], 3);
+    for (const char* key : {"frame_ms", "render_ms", "extract_ms"}) EXPECT_GT(j[key].get<double>(), 0.0) << key;
+    for (const char* stage : {"grouping", "deform", "normals", "bin_sort.scatter", "upload_staging"})
+        EXPECT_TRUE(j["stages"].contains(stage)) << stage;
+    EXPECT_TRUE(std::ifstream(out + "/frame_00002.png").good());
+}
+
+TEST(Cli, MeshWritesAMeshAndItsJson) {
+    const std::string in = rivulet::test::temp_path("column.xyz"), obj = rivulet::test::temp_path("column.obj"),
+                      json = rivulet::test::temp_path("mesh.json");
+    std::string text = "# a vertical column\n";
+    for (int i = 0; i < 50; ++i) text += "0 " + std::to_string(0.01 * i) + " 0\n";
+    write_text(in, text);
+    const Result r = run_cli("mesh " + in + " --method scan --radius 0.03 --repeat 3 --threads 2 --out " + obj + " --json " + json);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto j = read_json(json);
+    EXPECT_EQ(j["particles"], 50);
+    EXPECT_GT(j["triangles"].get<int>(), 0);
+    EXPECT_GT(j["vertices"].get<int>(), 0);
+    EXPECT_EQ(j["mesh_hash"].get<std::string>().size(), 16u);
+    EXPECT_TRUE(j["stages"].contains("grouping"));
+    EXPECT_GE(j["total_ms"].get<double>(), 0.0);
+    // Same input, other thread count: same bytes.
+    const std::string json1 = rivulet::test::temp_path("mesh1.json");
+    ASSERT_EQ(run_cli("mesh " + in + " --radius 0.03 --threads 1 --json " + json1).status, 0);
+    EXPECT_EQ(read_json(json1)["mesh_hash"], j["mesh_hash"]);
+}
+
+TEST(Cli, BadInputsFailWithAClearMessage) {
+    const std::string truncated = rivulet::test::temp_path("trunc.ply"), nan = rivulet::test::temp_path("nan.xyz"),
+                      empty = rivulet::test::temp_path("empty.xyz");
+    write_text(truncated, "ply\nformat binary_little_endian 1.0\nelement vertex 100\nproperty float x\nproperty float y\n"
+                          "property float z\nend_header\n1234");
+    write_text(nan, "0 0 0\nnan 1 0\n");
+    write_text(empty, "# nothing\n");
+    struct Case {
+        std::string args, expect;
+    };
+    for (const Case& c : std::vector<Case>{{"mesh " + truncated, "truncated"},
+                                           {"mesh " + nan, "non-finite"},
+                                           {"mesh " + empty, "no particles"},
+                                           {"mesh /nonexistent/x.ply", "x.ply"},
+                                           {"mesh " + nan + " --radius -1", "--radius"},
+                                           {"mesh " + nan + " --u 1", "--u"},
+                                           {"run --scene nope --frames 1", "nope"},
+                                           {"run --frames 0", "--frames"},
+                                           {"run --size 12x", "--size"},
+                                           {"run --method slices --frames 1", "slices"}}) {
+        const Result r = run_cli(c.args);
+        EXPECT_NE(r.status, 0) << c.args;
+        EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << " said: " << r.output;
+    }
+}
