@@ -39,16 +39,16 @@ public:
     std::uint32_t first_match(ConstPositions p, std::uint32_t pj, std::uint32_t limit, Accept&& accept) const {
         const CellCoord c = cell_of(p, pj);
         std::uint32_t best = limit;
-        for (std::int64_t dz = -1; dz <= 1; ++dz) {
-            for (std::int64_t dx = -1; dx <= 1; ++dx) {
-                const std::uint32_t b = bucket({c.x + dx, c.z + dz});
-                for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k) {
-                    const std::uint32_t pos = items_[k];
-                    if (pos >= best) break;  // items ascend: nothing better in this bucket
-                    if (accept(pos)) {
-                        best = pos;
-                        break;
-                    }
+        // Own cell first: its entries are the likeliest matches, and a low `best` cuts the other scans short.
+        static constexpr int kOrder[9][2] = {{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+        for (const auto& d : kOrder) {
+            const std::uint32_t b = bucket({c.x + d[0], c.z + d[1]});
+            for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k) {
+                const std::uint32_t pos = items_[k];
+                if (pos >= best) break;  // items ascend: nothing better in this bucket
+                if (accept(pos)) {
+                    best = pos;
+                    break;
                 }
             }
         }

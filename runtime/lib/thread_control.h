@@ -1,8 +1,9 @@
 #pragma once
 // `--threads T` bounds oneTBB and llvmpipe together (DESIGN §3.5), so 1/2/N-thread figures mean what
 // they say. TBB: global_control(max_allowed_parallelism, T), which counts the calling thread.
-// llvmpipe: LP_NUM_THREADS must be set before the GL context is created; T = 1 maps to 0, which
-// rasterizes on the calling (render) thread instead of starting a helper thread.
+// llvmpipe: LP_NUM_THREADS = T - 1 rasterizer threads beside the render thread (0 rasterizes on the
+// render thread itself), set before the GL context is created. While the render thread waits for its
+// rasterizers the TBB workers extract, so T threads keep about T cores busy.
 #include <memory>
 #include <tbb/global_control.h>
 
