@@ -15,7 +15,7 @@ struct BinGrid {
     float top = 0;      // y of plane 0
     float spacing = 1;  // distance between planes
     std::uint32_t bins = 0;
-    float radius = 0;   // sphere radius of every particle
+    float radius = 0;  // sphere radius of every particle
 
     float plane_y(std::uint32_t b) const { return top - static_cast<float>(b) * spacing; }
     // Planes [first, last] hit by a sphere at height y; returns false when it hits none.

@@ -19,7 +19,8 @@ constexpr std::uint64_t counter_hash(std::uint64_t seed, std::uint64_t frame, st
 }
 
 // Uniform in [0, 1) with 24 bits, exactly representable as float.
-constexpr float counter_uniform(std::uint64_t seed, std::uint64_t frame, std::uint64_t id, std::uint64_t stream) {
+constexpr float counter_uniform(std::uint64_t seed, std::uint64_t frame, std::uint64_t id,
+                                std::uint64_t stream) {
     return static_cast<float>(counter_hash(seed, frame, id, stream) >> 40) * (1.0f / 16777216.0f);
 }
 

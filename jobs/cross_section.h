@@ -42,7 +42,7 @@ void gaussian_blend(CirclesView circles, AngleTable angles, float tension, std::
                     std::span<float> alpha);
 
 // The configured function (maxima + smoothing, or blend); `tmp` as large as r.
-void radial_function(const CrossSectionParams& params, CirclesView circles, AngleTable angles, std::span<float> r,
-                     std::span<float> tmp);
+void radial_function(const CrossSectionParams& params, CirclesView circles, AngleTable angles,
+                     std::span<float> r, std::span<float> tmp);
 
 }  // namespace rivulet

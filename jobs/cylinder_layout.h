@@ -24,7 +24,9 @@ struct CylinderLayout {
     std::uint32_t verts_per_ring() const { return u + 2; }
     std::uint32_t verts_per_cylinder() const { return v * verts_per_ring(); }
     std::uint32_t ring_first_vertex(std::uint32_t ring) const { return ring * verts_per_ring(); }
-    std::uint32_t side_vertex(std::uint32_t ring, std::uint32_t k) const { return ring * verts_per_ring() + k; }
+    std::uint32_t side_vertex(std::uint32_t ring, std::uint32_t k) const {
+        return ring * verts_per_ring() + k;
+    }
     std::uint32_t top_pole(std::uint32_t ring) const { return ring * verts_per_ring() + u; }
     std::uint32_t bottom_pole(std::uint32_t ring) const { return ring * verts_per_ring() + u + 1; }
 

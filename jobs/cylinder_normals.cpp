@@ -37,7 +37,8 @@ void cylinder_normals(const CylinderLayout& layout, std::uint32_t vmin, std::uin
     for (std::uint32_t k = 0; k < u; ++k) {
         const std::uint32_t k1 = (k + 1) % u;
         accumulate_face(v, layout.top_pole(vmin), layout.side_vertex(vmin, k1), layout.side_vertex(vmin, k));
-        accumulate_face(v, layout.bottom_pole(vmax), layout.side_vertex(vmax, k), layout.side_vertex(vmax, k1));
+        accumulate_face(v, layout.bottom_pole(vmax), layout.side_vertex(vmax, k),
+                        layout.side_vertex(vmax, k1));
     }
 
     for (std::uint32_t i = first; i < last; ++i) {

@@ -14,8 +14,9 @@ void set_position(std::span<float> v, std::uint32_t vertex, float x, float y, fl
 
 }  // namespace
 
-void deform_cylinder(ConstPositions p, std::span<const std::uint32_t> ring, std::span<const std::uint32_t> particle,
-                     const DeformParams& params, std::span<float> ccx, std::span<float> ccz, std::span<float> crho,
+void deform_cylinder(ConstPositions p, std::span<const std::uint32_t> ring,
+                     std::span<const std::uint32_t> particle, const DeformParams& params,
+                     std::span<float> ccx, std::span<float> ccz, std::span<float> crho,
                      std::span<float> vertices) {
     const CylinderLayout& layout = params.layout;
     const std::uint32_t u = layout.u;

@@ -25,7 +25,8 @@ struct DeformParams {
 // One group: `ring[e]`, `particle[e]` are its entries in ring order (group_lists.h). Circle scratch
 // (cx, cz, rho) has one slot per entry. `vertices` is this cylinder's block, 6 floats per vertex.
 void deform_cylinder(ConstPositions particles, std::span<const std::uint32_t> ring,
-                     std::span<const std::uint32_t> particle, const DeformParams& params, std::span<float> circle_cx,
-                     std::span<float> circle_cz, std::span<float> circle_rho, std::span<float> vertices);
+                     std::span<const std::uint32_t> particle, const DeformParams& params,
+                     std::span<float> circle_cx, std::span<float> circle_cz, std::span<float> circle_rho,
+                     std::span<float> vertices);
 
 }  // namespace rivulet

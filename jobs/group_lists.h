@@ -11,12 +11,12 @@
 namespace rivulet {
 
 struct GroupListsOut {
-    std::span<std::uint32_t> offsets;   // groups + 1
-    std::span<std::uint32_t> bin;       // per entry: its bin (= cylinder ring)
-    std::span<std::uint32_t> particle;  // per entry: particle index
+    std::span<std::uint32_t> offsets;     // groups + 1
+    std::span<std::uint32_t> bin;         // per entry: its bin (= cylinder ring)
+    std::span<std::uint32_t> particle;    // per entry: particle index
     std::span<std::uint32_t> vmin, vmax;  // per group: first and last ring
-    std::span<std::uint32_t> cursor;    // scratch, groups slots
-    std::span<std::uint8_t> grouped;    // per particle: 1 when any of its entries joined a group
+    std::span<std::uint32_t> cursor;      // scratch, groups slots
+    std::span<std::uint8_t> grouped;      // per particle: 1 when any of its entries joined a group
 };
 
 // entry_group[e]: group of bins.entries[e] (grouping.h).

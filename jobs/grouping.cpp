@@ -17,7 +17,7 @@ struct CellCoord {
 
 // A 2D hash of one bin's entries, cell size eps, bucket items sorted by position in the bin.
 class BinHash {
-public:
+  public:
     BinHash(std::span<std::uint32_t> start, std::span<std::uint32_t> items) : start_(start), items_(items) {}
 
     void build(ConstPositions p, std::span<const std::uint32_t> bin, float inv_cell) {
@@ -28,7 +28,8 @@ public:
         for (std::uint32_t e : bin) ++start_[bucket(cell_of(p, e)) + 1];
         for (std::size_t s = 0; s < slots; ++s) start_[s + 1] += start_[s];
         // Stable scatter through a moving cursor per bucket: reuse start_[b] and restore it afterwards.
-        for (std::uint32_t pos = 0; pos < bin.size(); ++pos) items_[start_[bucket(cell_of(p, bin[pos]))]++] = pos;
+        for (std::uint32_t pos = 0; pos < bin.size(); ++pos)
+            items_[start_[bucket(cell_of(p, bin[pos]))]++] = pos;
         for (std::size_t s = slots; s > 0; --s) start_[s] = start_[s - 1];
         start_[0] = 0;
     }
@@ -36,11 +37,13 @@ public:
     // Lowest bin position within the 3x3 cells around `pj`'s cell accepted by `accept(pos)`.
     // Only positions below `limit` count (for the current bin: entries placed before pj).
     template <class Accept>
-    std::uint32_t first_match(ConstPositions p, std::uint32_t pj, std::uint32_t limit, Accept&& accept) const {
+    std::uint32_t first_match(ConstPositions p, std::uint32_t pj, std::uint32_t limit,
+                              Accept&& accept) const {
         const CellCoord c = cell_of(p, pj);
         std::uint32_t best = limit;
         // Own cell first: its entries are the likeliest matches, and a low `best` cuts the other scans short.
-        static constexpr int kOrder[9][2] = {{0, 0}, {-1, 0}, {1, 0}, {0, -1}, {0, 1}, {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+        static constexpr int kOrder[9][2] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, {0, 1},
+                                             {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
         for (const auto& d : kOrder) {
             const std::uint32_t b = bucket({c.x + d[0], c.z + d[1]});
             for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k) {
@@ -55,13 +58,14 @@ public:
         return best == limit ? kNone : best;
     }
 
-private:
+  private:
     CellCoord cell_of(ConstPositions p, std::uint32_t i) const {
         return {static_cast<std::int64_t>(std::floor(p.x[i] * inv_cell_)),
                 static_cast<std::int64_t>(std::floor(p.z[i] * inv_cell_))};
     }
     std::uint32_t bucket(CellCoord c) const {
-        const auto h = static_cast<std::uint64_t>(c.x) * 0x9E3779B1ull ^ static_cast<std::uint64_t>(c.z) * 0x85EBCA77ull;
+        const auto h =
+            static_cast<std::uint64_t>(c.x) * 0x9E3779B1ull ^ static_cast<std::uint64_t>(c.z) * 0x85EBCA77ull;
         return static_cast<std::uint32_t>(h ^ (h >> 29)) & mask_;
     }
 
@@ -71,10 +75,14 @@ private:
 };
 
 class Grouper {
-public:
-    Grouper(ConstPositions p, BinTableView bins, const GroupingParams& params, std::span<std::int32_t> entry_group,
-            const GroupingScratch& s)
-        : p_(p), bins_(bins), params_(params), group_(entry_group), blocked_bin_(s.blocked_bin),
+  public:
+    Grouper(ConstPositions p, BinTableView bins, const GroupingParams& params,
+            std::span<std::int32_t> entry_group, const GroupingScratch& s)
+        : p_(p),
+          bins_(bins),
+          params_(params),
+          group_(entry_group),
+          blocked_bin_(s.blocked_bin),
           eps2_(params.epsilon * params.epsilon),
           hashes_{BinHash(s.hash_start[0], s.hash_items[0]), BinHash(s.hash_start[1], s.hash_items[1])} {}
 
@@ -86,7 +94,7 @@ public:
         return result_;
     }
 
-private:
+  private:
     bool near(std::uint32_t a, std::uint32_t b) const {
         const float dx = p_.x[a] - p_.x[b], dy = p_.y[a] - p_.y[b], dz = p_.z[a] - p_.z[b];
         return dx * dx + dy * dy + dz * dz < eps2_;
@@ -133,13 +141,15 @@ private:
         for (std::uint32_t j = 0; j < cur.size(); ++j) {
             const std::uint32_t pj = cur[j];
             std::int32_t& gj = group_[cur_base + j];
-            const std::uint32_t c = first_in(cur, j, cur_hash, pj, [&](std::uint32_t pos) { return near(pj, cur[pos]); });
+            const std::uint32_t c =
+                first_in(cur, j, cur_hash, pj, [&](std::uint32_t pos) { return near(pj, cur[pos]); });
             if (c != kNone) {
                 const std::int32_t gk = group_[cur_base + c];
                 gj = gk >= 0 ? gk : new_group(cur_base + c, b);
             } else {
                 const auto np = static_cast<std::uint32_t>(prev.size());
-                const std::uint32_t q = first_in(prev, np, prev_hash, pj, [&](std::uint32_t pos) { return near(pj, prev[pos]); });
+                const std::uint32_t q =
+                    first_in(prev, np, prev_hash, pj, [&](std::uint32_t pos) { return near(pj, prev[pos]); });
                 if (q == kNone) {
                     gj = kIsolated;
                 } else if (const std::int32_t gk = group_[prev_base + q]; gk < 0) {

@@ -8,7 +8,7 @@
 namespace rivulet {
 
 class Hasher {
-public:
+  public:
     Hasher();
     ~Hasher();
     Hasher(const Hasher&) = delete;
@@ -21,7 +21,7 @@ public:
     }
     std::uint64_t digest() const;
 
-private:
+  private:
     alignas(64) unsigned char state_[576];  // XXH3_state_t, kept inline so hashing never allocates
 };
 

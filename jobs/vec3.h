@@ -12,11 +12,15 @@ struct Vec3f {
     friend constexpr bool operator==(Vec3f a, Vec3f b) = default;
 };
 
-constexpr float dot(Vec3f a, Vec3f b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr float dot(Vec3f a, Vec3f b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 constexpr Vec3f cross(Vec3f a, Vec3f b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline float length(Vec3f a) { return std::sqrt(dot(a, a)); }
+inline float length(Vec3f a) {
+    return std::sqrt(dot(a, a));
+}
 inline Vec3f normalize(Vec3f a) {
     const float l = length(a);
     return l > 0 ? a * (1.0f / l) : Vec3f{0, 1, 0};

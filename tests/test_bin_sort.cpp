@@ -25,7 +25,8 @@ Table sort_in_chunks(const BinGrid& grid, const std::vector<float>& y, std::uint
     t.offsets.resize(grid.bins + 1);
     for (std::uint32_t c = 0; c < chunks; ++c) {
         const std::uint32_t b = c * chunk, e = std::min(n, b + chunk);
-        bin_count_chunk(grid, std::span(y).subspan(b, e - b), std::span(counts).subspan(std::size_t(c) * grid.bins, grid.bins));
+        bin_count_chunk(grid, std::span(y).subspan(b, e - b),
+                        std::span(counts).subspan(std::size_t(c) * grid.bins, grid.bins));
     }
     const std::uint32_t total = bin_prefix(grid.bins, chunks, counts, cursors, t.offsets);
     t.entries.resize(total);
@@ -54,11 +55,15 @@ TEST(BinSort, EveryParticleInExactlyTheBinsItsSphereSpansInStableOrder) {
             if (std::fabs(y[i] - grid.plane_y(b)) <= grid.radius * (1 - 1e-5f)) expected[b].push_back(i);
 
     for (std::uint32_t b = 0; b < grid.bins; ++b) {
-        std::vector<std::uint32_t> got(t.entries.begin() + t.offsets[b], t.entries.begin() + t.offsets[b + 1]);
+        std::vector<std::uint32_t> got(t.entries.begin() + t.offsets[b],
+                                       t.entries.begin() + t.offsets[b + 1]);
         EXPECT_TRUE(std::is_sorted(got.begin(), got.end())) << "bin " << b << " not in particle order";
         // Spheres exactly tangent to a plane may go either way within rounding; everything else must match.
-        for (std::uint32_t i : expected[b]) EXPECT_TRUE(std::binary_search(got.begin(), got.end(), i)) << "bin " << b << " lacks " << i;
-        for (std::uint32_t i : got) EXPECT_LE(std::fabs(y[i] - grid.plane_y(b)), grid.radius * (1 + 1e-5f)) << "bin " << b << " has " << i;
+        for (std::uint32_t i : expected[b])
+            EXPECT_TRUE(std::binary_search(got.begin(), got.end(), i)) << "bin " << b << " lacks " << i;
+        for (std::uint32_t i : got)
+            EXPECT_LE(std::fabs(y[i] - grid.plane_y(b)), grid.radius * (1 + 1e-5f))
+                << "bin " << b << " has " << i;
     }
 }
 

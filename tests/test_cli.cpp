@@ -1,11 +1,11 @@
 // The command line as users' scripts see it (DESIGN §4): JSON keys, exit codes, clear errors.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
 
 #include "support/test_support.h"
 #include "systems/io/particle_io.h"
@@ -34,30 +34,36 @@ nlohmann::json read_json(const std::string& path) {
     return nlohmann::json::parse(f);
 }
 
-void write_text(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream(path) << text;
+}
 
 }  // namespace
 
 TEST(Cli, RunWritesTheTimingJsonAndPictures) {
     const std::string json = rivulet::test::temp_path("run.json"), out = rivulet::test::temp_path("frames");
-    const Result r = run_cli("run --frames 3 --threads 2 --size 160x90 --warmup 20 --out " + out + " --json " + json);
+    const Result r =
+        run_cli("run --frames 3 --threads 2 --size 160x90 --warmup 20 --out " + out + " --json " + json);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("frames/s"), std::string::npos);
     const auto j = read_json(json);
     EXPECT_EQ(j["frames"], 3);
-    for (const char* key : {"frame_ms", "render_ms", "extract_ms"}) EXPECT_GT(j[key].get<double>(), 0.0) << key;
+    for (const char* key : {"frame_ms", "render_ms", "extract_ms"})
+        EXPECT_GT(j[key].get<double>(), 0.0) << key;
     for (const char* stage : {"grouping", "deform", "normals", "bin_sort.scatter", "upload_staging"})
         EXPECT_TRUE(j["stages"].contains(stage)) << stage;
     EXPECT_TRUE(std::ifstream(out + "/frame_00002.png").good());
 }
 
 TEST(Cli, MeshWritesAMeshAndItsJson) {
-    const std::string in = rivulet::test::temp_path("column.xyz"), obj = rivulet::test::temp_path("column.obj"),
+    const std::string in = rivulet::test::temp_path("column.xyz"),
+                      obj = rivulet::test::temp_path("column.obj"),
                       json = rivulet::test::temp_path("mesh.json");
     std::string text = "# a vertical column\n";
     for (int i = 0; i < 50; ++i) text += "0 " + std::to_string(0.01 * i) + " 0\n";
     write_text(in, text);
-    const Result r = run_cli("mesh " + in + " --method scan --radius 0.03 --repeat 3 --threads 2 --out " + obj + " --json " + json);
+    const Result r = run_cli("mesh " + in + " --method scan --radius 0.03 --repeat 3 --threads 2 --out " +
+                             obj + " --json " + json);
     ASSERT_EQ(r.status, 0) << r.output;
     const auto j = read_json(json);
     EXPECT_EQ(j["particles"], 50);
@@ -73,10 +79,13 @@ TEST(Cli, MeshWritesAMeshAndItsJson) {
 }
 
 TEST(Cli, BadInputsFailWithAClearMessage) {
-    const std::string truncated = rivulet::test::temp_path("trunc.ply"), nan = rivulet::test::temp_path("nan.xyz"),
+    const std::string truncated = rivulet::test::temp_path("trunc.ply"),
+                      nan = rivulet::test::temp_path("nan.xyz"),
                       empty = rivulet::test::temp_path("empty.xyz");
-    write_text(truncated, "ply\nformat binary_little_endian 1.0\nelement vertex 100\nproperty float x\nproperty float y\n"
-                          "property float z\nend_header\n1234");
+    write_text(
+        truncated,
+        "ply\nformat binary_little_endian 1.0\nelement vertex 100\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n1234");
     write_text(nan, "0 0 0\nnan 1 0\n");
     write_text(empty, "# nothing\n");
     struct Case {

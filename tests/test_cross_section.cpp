@@ -107,8 +107,8 @@ TEST(CrossSection, BothRadialFunctionsFollowTheMetaballContour) {
     EXPECT_LT(worst_gauss.mean, 0.30);
     EXPECT_LT(worst_gauss.max, 0.50);
     EXPECT_LT(worst_maxima.mean, worst_gauss.mean);
-    std::printf("worst relative deviation: maxima mean %.3f max %.3f; gaussian mean %.3f max %.3f\n", worst_maxima.mean,
-                worst_maxima.max, worst_gauss.mean, worst_gauss.max);
+    std::printf("worst relative deviation: maxima mean %.3f max %.3f; gaussian mean %.3f max %.3f\n",
+                worst_maxima.mean, worst_maxima.max, worst_gauss.mean, worst_gauss.max);
 }
 
 TEST(CrossSection, GaussianBlendNeverExceedsTheCircleMaxima) {
@@ -131,7 +131,8 @@ TEST(CrossSection, GaussianBlendNeverExceedsTheCircleMaxima) {
                     const double w = k * dist * dist / c.rho[i];
                     bound = std::max(bound, (dist + c.rho[i]) * std::exp(-w * (1 - cosang)));
                 }
-                ASSERT_LE(r[t], bound * (1 + 1e-5) + 1e-6) << "trial " << trial << " k " << k << " angle " << t;
+                ASSERT_LE(r[t], bound * (1 + 1e-5) + 1e-6)
+                    << "trial " << trial << " k " << k << " angle " << t;
                 ASSERT_LE(r[t], farthest * (1 + 1e-6));
                 ASSERT_GE(r[t], 0.0f);
             }

@@ -27,7 +27,9 @@ std::vector<std::uint64_t> frame_hashes(int threads, int frames) {
     return hashes;
 }
 
-bool water_blue(const std::uint8_t* px) { return px[2] > px[0] + 40 && px[2] > 90; }
+bool water_blue(const std::uint8_t* px) {
+    return px[2] > px[0] + 40 && px[2] > 90;
+}
 
 }  // namespace
 

@@ -24,9 +24,9 @@ constexpr float kFigureEps = 0.5f;
 Cloud figure4(bool with_f) {
     Cloud c;
     c.add(0.0f, 1.0f, 0), c.add(0.4f, 1.0f, 0), c.add(0.8f, 1.0f, 0);  // A B C: group 1 in bin v1
-    c.add(-0.1f, 0.8f, 0);                                              // D: near A
-    c.add(1.1f, 0.8f, 0);                                               // E: near C only
-    if (with_f) c.add(1.4f, 0.8f, 0);                                   // F: near E only
+    c.add(-0.1f, 0.8f, 0);                                             // D: near A
+    c.add(1.1f, 0.8f, 0);                                              // E: near C only
+    if (with_f) c.add(1.4f, 0.8f, 0);                                  // F: near E only
     return c;
 }
 
@@ -39,7 +39,8 @@ TEST(Grouping, Figure4DBlocksGroupOneSoEIsIsolated) {
     GroupingResult r;
     const Bins bins = rivulet::test::bin_sort(kFigureGrid, c);
     ASSERT_EQ(bins.entries.size(), c.size()) << "each particle cuts exactly one plane in this figure";
-    const auto g = rivulet::test::particle_groups(bins, rivulet::test::group(c, bins, kFigureEps, 150, &r), c.size());
+    const auto g =
+        rivulet::test::particle_groups(bins, rivulet::test::group(c, bins, kFigureEps, 150, &r), c.size());
     EXPECT_GE(g[A], 0);
     EXPECT_EQ(g[A], g[B]);
     EXPECT_EQ(g[A], g[C]);
@@ -53,7 +54,8 @@ TEST(Grouping, Figure4FFormsANewGroupWithE) {
     const Cloud c = figure4(true);
     GroupingResult r;
     const Bins bins = rivulet::test::bin_sort(kFigureGrid, c);
-    const auto g = rivulet::test::particle_groups(bins, rivulet::test::group(c, bins, kFigureEps, 150, &r), c.size());
+    const auto g =
+        rivulet::test::particle_groups(bins, rivulet::test::group(c, bins, kFigureEps, 150, &r), c.size());
     EXPECT_EQ(g[D], g[A]);
     EXPECT_GE(g[E], 0);
     EXPECT_EQ(g[E], g[F]);
@@ -75,13 +77,15 @@ TEST(Grouping, ArchIsSplitNeverWrappedDownBothLegs) {
     const BinGrid grid{1.05f, 0.02f, 56, radius};
     const Bins bins = rivulet::test::bin_sort(grid, c);
     const auto g = rivulet::test::group(c, bins, 3.5f * radius, 150);
-    std::map<std::int32_t, std::set<int>> legs;  // group -> which legs (-1 / +1) it reaches below the apex region
+    std::map<std::int32_t, std::set<int>>
+        legs;  // group -> which legs (-1 / +1) it reaches below the apex region
     for (std::size_t e = 0; e < bins.entries.size(); ++e) {
         const std::uint32_t i = bins.entries[e];
         if (g[e] >= 0 && c.y[i] < 0.8f) legs[g[e]].insert(c.x[i] < 0 ? -1 : 1);
     }
     ASSERT_FALSE(legs.empty());
-    for (const auto& [group, sides] : legs) EXPECT_EQ(sides.size(), 1u) << "group " << group << " wraps both legs";
+    for (const auto& [group, sides] : legs)
+        EXPECT_EQ(sides.size(), 1u) << "group " << group << " wraps both legs";
     // Both legs are still surfaced by some group (not left as isolated spheres).
     std::set<int> covered;
     for (const auto& [group, sides] : legs) covered.insert(sides.begin(), sides.end());
@@ -91,7 +95,8 @@ TEST(Grouping, ArchIsSplitNeverWrappedDownBothLegs) {
 namespace {
 
 // The pseudocode over bin entries with this implementation's stated decisions, scanning linearly.
-std::vector<std::int32_t> reference_grouping(const Cloud& c, const Bins& bins, float eps, std::uint32_t max_groups) {
+std::vector<std::int32_t> reference_grouping(const Cloud& c, const Bins& bins, float eps,
+                                             std::uint32_t max_groups) {
     std::vector<std::int32_t> g(bins.entries.size(), -1);
     std::vector<std::int64_t> blocked(max_groups, -1);
     std::int32_t groups = 0;
@@ -162,8 +167,8 @@ TEST(Grouping, GroupListsHoldEachGroupsEntriesInRingOrder) {
     GroupingResult r;
     const auto eg = rivulet::test::group(c, bins, kFigureEps, 150, &r);
     const auto g = rivulet::test::particle_groups(bins, eg, c.size());
-    std::vector<std::uint32_t> off(r.groups + 1), bin(bins.entries.size()), part(bins.entries.size()), vmin(r.groups),
-        vmax(r.groups), cur(r.groups);
+    std::vector<std::uint32_t> off(r.groups + 1), bin(bins.entries.size()), part(bins.entries.size()),
+        vmin(r.groups), vmax(r.groups), cur(r.groups);
     std::vector<std::uint8_t> grouped(c.size());
     build_group_lists(bins.view(), eg, r.groups, {off, bin, part, vmin, vmax, cur, grouped});
     for (std::uint8_t f : grouped) EXPECT_EQ(f, 1);

@@ -32,7 +32,8 @@ Extracted extract(const ParticleSet& p, const ScanSettings& s) {
 
 std::vector<float> positions_of(const TriangleMesh& m) {
     std::vector<float> p;
-    for (std::size_t v = 0; v < m.vertex_count(); ++v) p.insert(p.end(), &m.vertices[6 * v], &m.vertices[6 * v + 3]);
+    for (std::size_t v = 0; v < m.vertex_count(); ++v)
+        p.insert(p.end(), &m.vertices[6 * v], &m.vertices[6 * v + 3]);
     return p;
 }
 
@@ -43,8 +44,10 @@ double signed_volume(const TriangleMesh& m, std::size_t first_index, std::size_t
         const float* a = &m.vertices[6 * m.indices[t]];
         const float* b = &m.vertices[6 * m.indices[t + 1]];
         const float* c = &m.vertices[6 * m.indices[t + 2]];
-        vol += (a[0] * (double(b[1]) * c[2] - double(b[2]) * c[1]) - a[1] * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
-                a[2] * (double(b[0]) * c[1] - double(b[1]) * c[0])) / 6.0;
+        vol += (a[0] * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
+                a[1] * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
+                a[2] * (double(b[0]) * c[1] - double(b[1]) * c[0])) /
+               6.0;
     }
     return vol;
 }
@@ -60,7 +63,8 @@ void expect_unit_normals(const TriangleMesh& m) {
 
 TEST(ScanMesh, VerticalColumnGivesAClosedTubeOfTheSphereRadiusWithOutwardNormals) {
     ParticleSet p(200);
-    for (int i = 0; i <= 80; ++i) p.push(0.3f, 0.2f + 0.01f * static_cast<float>(i), -0.1f, 0, 0, 0, static_cast<std::uint32_t>(i));
+    for (int i = 0; i <= 80; ++i)
+        p.push(0.3f, 0.2f + 0.01f * static_cast<float>(i), -0.1f, 0, 0, 0, static_cast<std::uint32_t>(i));
     ScanSettings s;
     s.radius = 0.05f, s.u = 20, s.v = 61, s.v_top = 1.2f, s.v_bottom = 0.0f;
     const Extracted e = extract(p, s);
@@ -76,7 +80,8 @@ TEST(ScanMesh, VerticalColumnGivesAClosedTubeOfTheSphereRadiusWithOutwardNormals
         if (q[1] < 0.3f || q[1] > 0.9f) continue;
         const float dx = q[0] - 0.3f, dz = q[2] + 0.1f;
         EXPECT_NEAR(std::sqrt(dx * dx + dz * dz), 0.05f, 0.05f * 0.02f);
-        EXPECT_GT((q[3] * dx + q[5] * dz) / std::sqrt(dx * dx + dz * dz), 0.95f) << "normal not outward at " << v;
+        EXPECT_GT((q[3] * dx + q[5] * dz) / std::sqrt(dx * dx + dz * dz), 0.95f)
+            << "normal not outward at " << v;
         ++checked;
     }
     EXPECT_GT(checked, 100);
@@ -107,7 +112,8 @@ TEST(ScanMesh, FountainFrameIsClosedWithUnitNormalsAndOutwardCylinders) {
 
 TEST(ScanMesh, MeshHashDependsOnEveryByte) {
     ParticleSet p(10);
-    for (int i = 0; i < 5; ++i) p.push(0, 0.5f + 0.03f * static_cast<float>(i), 0, 0, 0, 0, static_cast<std::uint32_t>(i));
+    for (int i = 0; i < 5; ++i)
+        p.push(0, 0.5f + 0.03f * static_cast<float>(i), 0, 0, 0, 0, static_cast<std::uint32_t>(i));
     ScanSettings s;
     s.radius = 0.03f, s.v = 30, s.v_top = 1, s.v_bottom = 0;
     Extracted e = extract(p, s);

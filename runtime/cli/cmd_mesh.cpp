@@ -1,7 +1,7 @@
 // rivulet mesh: particles from files to triangle meshes, timed without file I/O.
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -31,18 +31,28 @@ struct MeshOptions {
 nlohmann::json mesh_json(const MeshResult& r) {
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [name, ms] : r.stage_ms) stages[name] = ms;
-    return {{"particles", r.particles}, {"vertices", r.mesh.vertex_count()}, {"triangles", r.mesh.triangle_count()},
-            {"total_ms", r.total_ms},   {"stages", stages},                 {"mesh_hash", hash_hex(r.hash)},
-            {"radius", r.radius},       {"groups", r.groups},               {"isolated", r.isolated}};
+    return {{"particles", r.particles},
+            {"vertices", r.mesh.vertex_count()},
+            {"triangles", r.mesh.triangle_count()},
+            {"total_ms", r.total_ms},
+            {"stages", stages},
+            {"mesh_hash", hash_hex(r.hash)},
+            {"radius", r.radius},
+            {"groups", r.groups},
+            {"isolated", r.isolated}};
 }
 
 int run(const MeshOptions& o) {
     if (o.method != "scan")
         throw std::invalid_argument(fmt::format(
-            "--method '{}' is not available: this build implements 'scan' (sphere scan conversion)", o.method));
-    if (o.repeat < 1 || o.repeat > 100000) throw std::invalid_argument(fmt::format("--repeat must be in [1, 100000], got {}", o.repeat));
-    if (o.threads < 0 || o.threads > 1024) throw std::invalid_argument(fmt::format("--threads must be in [0, 1024], got {}", o.threads));
-    if (o.radius < 0 || !std::isfinite(o.radius)) throw std::invalid_argument(fmt::format("--radius must be positive, got {}", o.radius));
+            "--method '{}' is not available: this build implements 'scan' (sphere scan conversion)",
+            o.method));
+    if (o.repeat < 1 || o.repeat > 100000)
+        throw std::invalid_argument(fmt::format("--repeat must be in [1, 100000], got {}", o.repeat));
+    if (o.threads < 0 || o.threads > 1024)
+        throw std::invalid_argument(fmt::format("--threads must be in [0, 1024], got {}", o.threads));
+    if (o.radius < 0 || !std::isfinite(o.radius))
+        throw std::invalid_argument(fmt::format("--radius must be positive, got {}", o.radius));
     MeshRequest req;
     req.scan = o.scan.resolve();
     {
@@ -78,9 +88,10 @@ int run(const MeshOptions& o) {
         nlohmann::json j = mesh_json(r);
         j["input"] = jobs[i].in;
         if (!sequence)
-            fmt::print("{}: {} particles -> {} vertices, {} triangles in {:.3f} ms (median of {}), mesh_hash {}\n",
-                       jobs[i].in, r.particles, r.mesh.vertex_count(), r.mesh.triangle_count(), r.total_ms, o.repeat,
-                       hash_hex(r.hash));
+            fmt::print(
+                "{}: {} particles -> {} vertices, {} triangles in {:.3f} ms (median of {}), mesh_hash {}\n",
+                jobs[i].in, r.particles, r.mesh.vertex_count(), r.mesh.triangle_count(), r.total_ms, o.repeat,
+                hash_hex(r.hash));
         per_frame.push_back(std::move(j));
         if (sequence) bar.update(static_cast<int>(i + 1));
     }
@@ -99,13 +110,19 @@ int run(const MeshOptions& o) {
 
 void add_mesh_command(CLI::App& app, int& status) {
     auto opts = std::make_shared<MeshOptions>();
-    CLI::App* cmd = app.add_subcommand("mesh", "Extract a triangle mesh from particle files (.ply, .xyz, .vtk, or a {} pattern)");
-    cmd->add_option("input", opts->input, "Particle file, or a sequence pattern such as frames/frame_{}.ply")->required();
-    cmd->add_option("--method", opts->method, "Surface method: scan (sphere scan conversion)")->capture_default_str();
-    cmd->add_option("--radius", opts->radius, "Particle radius in world units (default: half the median neighbour distance)");
+    CLI::App* cmd = app.add_subcommand(
+        "mesh", "Extract a triangle mesh from particle files (.ply, .xyz, .vtk, or a {} pattern)");
+    cmd->add_option("input", opts->input, "Particle file, or a sequence pattern such as frames/frame_{}.ply")
+        ->required();
+    cmd->add_option("--method", opts->method, "Surface method: scan (sphere scan conversion)")
+        ->capture_default_str();
+    cmd->add_option("--radius", opts->radius,
+                    "Particle radius in world units (default: half the median neighbour distance)");
     cmd->add_option("--threads", opts->threads, "Threads (0 = all)")->capture_default_str();
-    cmd->add_option("--repeat", opts->repeat, "Extractions to time; total_ms is their median")->capture_default_str();
-    cmd->add_option("--out", opts->out, "Mesh file to write: .obj, .ply or .vtk (a {} pattern for sequences)");
+    cmd->add_option("--repeat", opts->repeat, "Extractions to time; total_ms is their median")
+        ->capture_default_str();
+    cmd->add_option("--out", opts->out,
+                    "Mesh file to write: .obj, .ply or .vtk (a {} pattern for sequences)");
     cmd->add_option("--json", opts->json, "Write counts, timings and mesh_hash as JSON");
     opts->scan.add_to(*cmd);
     cmd->callback([opts, &status] { status = run(*opts); });

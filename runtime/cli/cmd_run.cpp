@@ -36,7 +36,8 @@ StageSummary summarize(const FramePipeline& p) {
         return median(std::move(v));
     };
     for (FrameGraph::JobId j = 0; j < p.graph().job_count(); ++j)
-        s.stage_ms.emplace_back(p.graph().job_name(j), column([j](const FrameRecord& r) { return r.job_ms[j]; }));
+        s.stage_ms.emplace_back(p.graph().job_name(j),
+                                column([j](const FrameRecord& r) { return r.job_ms[j]; }));
     s.frame_ms = column([](const FrameRecord& r) { return r.frame_ms; });
     s.render_ms = column([](const FrameRecord& r) { return r.render_ms; });
     s.extract_ms = column([](const FrameRecord& r) { return r.extract_ms; });
@@ -47,9 +48,12 @@ StageSummary summarize(const FramePipeline& p) {
 int run(const RunOptions& o) {
     if (o.method != "scan")
         throw std::invalid_argument(fmt::format(
-            "--method '{}' is not available: this build implements 'scan' (sphere scan conversion)", o.method));
-    if (o.frames < 1 || o.frames > 1000000) throw std::invalid_argument(fmt::format("--frames must be in [1, 1000000], got {}", o.frames));
-    if (o.threads < 0 || o.threads > 1024) throw std::invalid_argument(fmt::format("--threads must be in [0, 1024], got {}", o.threads));
+            "--method '{}' is not available: this build implements 'scan' (sphere scan conversion)",
+            o.method));
+    if (o.frames < 1 || o.frames > 1000000)
+        throw std::invalid_argument(fmt::format("--frames must be in [1, 1000000], got {}", o.frames));
+    if (o.threads < 0 || o.threads > 1024)
+        throw std::invalid_argument(fmt::format("--threads must be in [0, 1024], got {}", o.threads));
     SceneDesc scene = make_builtin_scene(o.scene);
     if (o.warmup >= 0) scene.warmup_frames = o.warmup;
 
@@ -63,8 +67,8 @@ int run(const RunOptions& o) {
 
     FramePipeline pipeline(scene, config);
     if (Renderer* r = pipeline.renderer())
-        fmt::print(stderr, "rivulet: scene '{}', {} threads, {} ({})\n", scene.name, threads.threads(), r->gl_version(),
-                   r->gl_renderer());
+        fmt::print(stderr, "rivulet: scene '{}', {} threads, {} ({})\n", scene.name, threads.threads(),
+                   r->gl_version(), r->gl_renderer());
     pipeline.warmup();
     pipeline.reserve_records(static_cast<std::size_t>(o.frames));
     ProgressBar bar("frames", o.frames);
@@ -73,8 +77,11 @@ int run(const RunOptions& o) {
     const StageSummary summary = summarize(pipeline);
     const auto& recs = pipeline.records();
     const FrameRecord& last = recs.back();
-    fmt::print("scene {} | method scan | {} frames | {} threads | {} particles, {} groups, {} isolated, {} triangles (last frame)\n",
-               scene.name, recs.size(), threads.threads(), last.particles, last.groups, last.isolated, last.triangles);
+    fmt::print(
+        "scene {} | method scan | {} frames | {} threads | {} particles, {} groups, {} isolated, {} "
+        "triangles (last frame)\n",
+        scene.name, recs.size(), threads.threads(), last.particles, last.groups, last.isolated,
+        last.triangles);
     fmt::print("{}", format_stage_table(summary, config.render));
     if (!config.out_dir.empty()) fmt::print("pictures: {}/frame_*.png\n", config.out_dir);
     if (!o.json.empty()) {
@@ -97,12 +104,16 @@ int run(const RunOptions& o) {
 
 void add_run_command(CLI::App& app, int& status) {
     auto opts = std::make_shared<RunOptions>();
-    CLI::App* cmd = app.add_subcommand("run", "Simulate a scene, extract its surface and render it, frame after frame");
+    CLI::App* cmd =
+        app.add_subcommand("run", "Simulate a scene, extract its surface and render it, frame after frame");
     cmd->add_option("--scene", opts->scene, "Built-in scene: fountain, faucet, hose")->capture_default_str();
-    cmd->add_option("--method", opts->method, "Surface method: scan (sphere scan conversion)")->capture_default_str();
+    cmd->add_option("--method", opts->method, "Surface method: scan (sphere scan conversion)")
+        ->capture_default_str();
     cmd->add_option("--frames", opts->frames, "Frames to render")->capture_default_str();
-    cmd->add_option("--threads", opts->threads, "Threads for TBB and llvmpipe together (0 = all)")->capture_default_str();
-    cmd->add_option("--out", opts->out, "Directory for PNG frames (empty: no pictures)")->capture_default_str();
+    cmd->add_option("--threads", opts->threads, "Threads for TBB and llvmpipe together (0 = all)")
+        ->capture_default_str();
+    cmd->add_option("--out", opts->out, "Directory for PNG frames (empty: no pictures)")
+        ->capture_default_str();
     cmd->add_option("--size", opts->size, "Picture size WxH")->capture_default_str();
     cmd->add_option("--json", opts->json, "Write the timing summary as JSON");
     cmd->add_option("--warmup", opts->warmup, "Simulated frames before frame 0 (default: the scene's)");

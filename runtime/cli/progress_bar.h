@@ -1,14 +1,15 @@
 #pragma once
 // A one-line progress bar on stderr. On a terminal it redraws in place; otherwise it prints a line at
 // every 10 % so logs stay short. Never allocates while updating.
-#include <cstdio>
 #include <unistd.h>
+#include <cstdio>
 
 namespace rivulet::cli {
 
 class ProgressBar {
-public:
-    ProgressBar(const char* label, int total) : label_(label), total_(total > 0 ? total : 1), tty_(::isatty(2)) {}
+  public:
+    ProgressBar(const char* label, int total)
+        : label_(label), total_(total > 0 ? total : 1), tty_(::isatty(2)) {}
 
     void update(int done) {
         const int percent = done * 100 / total_;
@@ -27,7 +28,7 @@ public:
         std::fflush(stderr);
     }
 
-private:
+  private:
     const char* label_;
     int total_;
     bool tty_;

@@ -8,11 +8,15 @@ namespace rivulet::cli {
 void ScanOptions::add_to(CLI::App& cmd) {
     cmd.add_option("--u", settings.u, "Cylinder vertices around a ring (U)")->capture_default_str();
     cmd.add_option("--v", settings.v, "Cross-sections along the V axis (V)")->capture_default_str();
-    cmd.add_option("--max-groups", settings.max_groups, "Preallocated cylinders (max groups)")->capture_default_str();
-    cmd.add_option("--epsilon", settings.epsilon, "Grouping distance in world units (default: 1.75 sphere diameters)");
-    cmd.add_option("--radial", radial, "Radial function: maxima (circle maxima) or gaussian (blended gaussians)")
+    cmd.add_option("--max-groups", settings.max_groups, "Preallocated cylinders (max groups)")
         ->capture_default_str();
-    cmd.add_option("--smoothing", settings.section.smoothing_iterations, "Smoothing iterations I (circle maxima)")
+    cmd.add_option("--epsilon", settings.epsilon,
+                   "Grouping distance in world units (default: 1.75 sphere diameters)");
+    cmd.add_option("--radial", radial,
+                   "Radial function: maxima (circle maxima) or gaussian (blended gaussians)")
+        ->capture_default_str();
+    cmd.add_option("--smoothing", settings.section.smoothing_iterations,
+                   "Smoothing iterations I (circle maxima)")
         ->capture_default_str();
     cmd.add_option("--tension", settings.section.tension, "Gaussian tension k (blended gaussians)")
         ->capture_default_str();
@@ -36,7 +40,8 @@ void parse_size(const std::string& text, int& width, int& height) {
     if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
         throw std::invalid_argument(fmt::format("--size must look like 1280x720, got '{}'", text));
     if (w < 16 || h < 16 || w > 8192 || h > 8192)
-        throw std::invalid_argument(fmt::format("--size must be between 16x16 and 8192x8192, got '{}'", text));
+        throw std::invalid_argument(
+            fmt::format("--size must be between 16x16 and 8192x8192, got '{}'", text));
     width = w, height = h;
 }
 

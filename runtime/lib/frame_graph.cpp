@@ -1,10 +1,10 @@
 #include "runtime/lib/frame_graph.h"
 
-#include <algorithm>
-#include <stdexcept>
 #include <tbb/blocked_range.h>
 #include <tbb/flow_graph.h>
 #include <tbb/parallel_for.h>
+#include <algorithm>
+#include <stdexcept>
 
 namespace rivulet {
 
@@ -54,9 +54,10 @@ void FrameGraph::run_job(Job& job) {
     } else {
         const std::size_t n = job.count();
         job.items = n;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&job](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) job.item(i);
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                          [&job](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) job.item(i);
+                          });
     }
     job.end_us = us(std::chrono::steady_clock::now() - t0_).count();
 }

@@ -5,19 +5,19 @@
 // frame's start) so stages can be timed and traced.
 #include <atomic>
 #include <chrono>
-#include <exception>
-#include <mutex>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <initializer_list>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
 namespace rivulet {
 
 class FrameGraph {
-public:
+  public:
     using JobId = std::uint32_t;
     using SerialFn = std::function<void()>;
     using CountFn = std::function<std::size_t()>;
@@ -52,7 +52,7 @@ public:
     // Wall time of the last run from start() until its last job finished, ms.
     double last_run_ms() const;
 
-private:
+  private:
     struct Job {
         std::string name;
         SerialFn serial;

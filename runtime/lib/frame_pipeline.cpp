@@ -1,11 +1,11 @@
 #include "runtime/lib/frame_pipeline.h"
 
+#include <tbb/task_group.h>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
-#include <tbb/task_group.h>
 
 #include "systems/render/png_writer.h"
 #include "systems/scan/scan_mesh.h"
@@ -37,7 +37,8 @@ struct FramePipeline::PngRing {
     }
 };
 
-FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& config) : scene_(scene), config_(config) {
+FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& config)
+    : scene_(scene), config_(config) {
     sim_ = std::make_unique<StreamSimulation>(scene_);
     particles_.reserve(scene_.max_particles);
     ScanSettings s = config_.scan;
@@ -85,18 +86,18 @@ void FramePipeline::build_graph() {
         graph_, *scan_, [this] { return particles_.positions(); },
         [this]() -> ScanOutput& { return slots_[target_slot_].scan; }, {sim_end_});
     // Hand-over data of the slot: pool heights copied (the simulation moves on), counters, hash.
-    graph_.serial(
-        "upload_staging",
-        [this] {
-            FrameSlot& slot = slots_[target_slot_];
-            const HeightFieldView pool = sim_->pool_view();
-            std::copy(pool.heights.begin(), pool.heights.end(), slot.pool_heights.data());
-            slot.particles = static_cast<std::uint32_t>(particles_.size());
-            slot.frame = sim_frame_;
-            slot.hash = config_.hash_frames ? frame_output_hash(slot.scan, scan_->layout()) : 0;
-        },
-        {scan.stage});
-    if (graph_.job_count() > kMaxFrameJobs) throw std::logic_error("frame graph has more jobs than kMaxFrameJobs");
+    graph_.serial("upload_staging",
+                  [this] {
+                      FrameSlot& slot = slots_[target_slot_];
+                      const HeightFieldView pool = sim_->pool_view();
+                      std::copy(pool.heights.begin(), pool.heights.end(), slot.pool_heights.data());
+                      slot.particles = static_cast<std::uint32_t>(particles_.size());
+                      slot.frame = sim_frame_;
+                      slot.hash = config_.hash_frames ? frame_output_hash(slot.scan, scan_->layout()) : 0;
+                  },
+                  {scan.stage});
+    if (graph_.job_count() > kMaxFrameJobs)
+        throw std::logic_error("frame graph has more jobs than kMaxFrameJobs");
 }
 
 void FramePipeline::warmup() {
@@ -136,8 +137,8 @@ void FramePipeline::render(int slot, int frame_index) {
     buf.path.assign(config_.out_dir);
     buf.path.append(name);
     buf.encode.run([&buf, this] {
-        write_png_rgba(buf.path, png_->width, png_->height, buf.rgba.span(std::size_t(png_->width) * png_->height * 4),
-                       config_.png_level);
+        write_png_rgba(buf.path, png_->width, png_->height,
+                       buf.rgba.span(std::size_t(png_->width) * png_->height * 4), config_.png_level);
     });
 }
 

@@ -44,7 +44,7 @@ struct FrameRecord {
 };
 
 class FramePipeline {
-public:
+  public:
     // Builds simulation, scan converter, slots, frame graph and (if config.render) the renderer on the
     // calling thread, which becomes the render thread. Throws on invalid settings or GL failure.
     FramePipeline(const SceneDesc& scene, const PipelineConfig& config);
@@ -67,7 +67,7 @@ public:
     const SceneDesc& scene() const { return scene_; }
     std::uint64_t next_sim_frame() const { return sim_frame_; }
 
-private:
+  private:
     void build_graph();
     void extract(int slot, bool async);
     void finish_extract(int slot);

@@ -1,7 +1,7 @@
 #include "runtime/lib/mesh_extraction.h"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 #include <stdexcept>
 
 #include "runtime/lib/frame_graph.h"
@@ -24,7 +24,8 @@ MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& req) {
     result.particles = n;
     result.radius = req.radius > 0 ? req.radius : estimate_particle_radius(particles.positions());
     if (!(result.radius > 0))
-        throw std::invalid_argument("cannot estimate a particle radius (all particles coincide): pass --radius");
+        throw std::invalid_argument(
+            "cannot estimate a particle radius (all particles coincide): pass --radius");
     ScanSettings s = req.scan;
     s.radius = result.radius;
     const auto [lo, hi] = std::minmax_element(cloud.y.begin(), cloud.y.end());
@@ -36,7 +37,8 @@ MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& req) {
     scan.prepare_output(out);
 
     FrameGraph graph;
-    add_scan_jobs(graph, scan, [&particles] { return particles.positions(); }, [&out]() -> ScanOutput& { return out; });
+    add_scan_jobs(
+        graph, scan, [&particles] { return particles.positions(); }, [&out]() -> ScanOutput& { return out; });
     std::vector<double> totals;
     std::vector<std::vector<double>> stages(0);
     for (int r = 0; r < req.repeat; ++r) {

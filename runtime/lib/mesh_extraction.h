@@ -21,7 +21,7 @@ struct MeshResult {
     std::size_t particles = 0;
     float radius = 0;
     std::uint32_t groups = 0, isolated = 0;
-    double total_ms = 0;                                  // median graph wall time
+    double total_ms = 0;                                   // median graph wall time
     std::vector<std::pair<std::string, double>> stage_ms;  // medians
     TriangleMesh mesh;
     std::uint64_t hash = 0;  // mesh_hash(mesh)

@@ -3,12 +3,14 @@
 namespace rivulet {
 
 ScanJobIds add_scan_jobs(FrameGraph& g, ScanConverter& scan, std::function<ConstPositions()> positions,
-                         std::function<ScanOutput&()> output, std::initializer_list<FrameGraph::JobId> after) {
+                         std::function<ScanOutput&()> output,
+                         std::initializer_list<FrameGraph::JobId> after) {
     ScanJobIds id{};
     auto& s = scan;
     auto pos = std::move(positions);
     auto out = std::move(output);
-    const auto begin = g.serial("bin_sort.begin", [&s, pos] { s.begin_frame(pos()); }, after);
+    const auto begin = g.serial(
+        "bin_sort.begin", [&s, pos] { s.begin_frame(pos()); }, after);
     id.bin_count = g.parallel(
         "bin_sort.count", [&s] { return std::size_t(s.chunks()); },
         [&s, pos](std::size_t c) { s.bin_count(pos(), static_cast<std::uint32_t>(c)); }, {begin});
@@ -19,7 +21,8 @@ ScanJobIds add_scan_jobs(FrameGraph& g, ScanConverter& scan, std::function<Const
     id.grouping = g.serial("grouping", [&s, pos] { s.group(pos()); }, {id.bin_scatter});
     id.deform = g.parallel(
         "deform", [&s] { return std::size_t(s.groups()); },
-        [&s, pos, out](std::size_t gi) { s.deform(pos(), static_cast<std::uint32_t>(gi), out()); }, {id.grouping});
+        [&s, pos, out](std::size_t gi) { s.deform(pos(), static_cast<std::uint32_t>(gi), out()); },
+        {id.grouping});
     id.normals = g.parallel(
         "normals", [&s] { return std::size_t(s.groups()); },
         [&s, out](std::size_t gi) { s.normals(static_cast<std::uint32_t>(gi), out()); }, {id.deform});

@@ -15,6 +15,7 @@ struct ScanJobIds {
 
 // `positions` and `output` are asked when each job runs, so they may change between frames (slots).
 ScanJobIds add_scan_jobs(FrameGraph& graph, ScanConverter& scan, std::function<ConstPositions()> positions,
-                         std::function<ScanOutput&()> output, std::initializer_list<FrameGraph::JobId> after = {});
+                         std::function<ScanOutput&()> output,
+                         std::initializer_list<FrameGraph::JobId> after = {});
 
 }  // namespace rivulet

@@ -1,7 +1,7 @@
 #include "runtime/lib/stage_summary.h"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 namespace rivulet {
@@ -29,8 +29,9 @@ std::string format_stage_table(const StageSummary& s, bool with_render) {
 nlohmann::json stage_json(const StageSummary& s) {
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [name, ms] : s.stage_ms) stages[name] = ms;
-    return {{"frames", s.frames},         {"stages", stages},         {"frame_ms", s.frame_ms},
-            {"render_ms", s.render_ms},   {"extract_ms", s.extract_ms}, {"frames_per_second", s.frames_per_second}};
+    return {{"frames", s.frames},         {"stages", stages},
+            {"frame_ms", s.frame_ms},     {"render_ms", s.render_ms},
+            {"extract_ms", s.extract_ms}, {"frames_per_second", s.frames_per_second}};
 }
 
 }  // namespace rivulet

@@ -1,13 +1,15 @@
 #include "runtime/lib/thread_control.h"
 
-#include <cstdlib>
-#include <string>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
+#include <cstdlib>
+#include <string>
 
 namespace rivulet {
 
-int hardware_threads() { return tbb::info::default_concurrency(); }
+int hardware_threads() {
+    return tbb::info::default_concurrency();
+}
 
 ThreadControl::ThreadControl(int threads) : threads_(threads > 0 ? threads : hardware_threads()) {
     control_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,

@@ -4,19 +4,19 @@
 // llvmpipe: LP_NUM_THREADS = T - 1 rasterizer threads beside the render thread (0 rasterizes on the
 // render thread itself), set before the GL context is created. While the render thread waits for its
 // rasterizers the TBB workers extract, so T threads keep about T cores busy.
-#include <memory>
 #include <tbb/global_control.h>
+#include <memory>
 
 namespace rivulet {
 
 class ThreadControl {
-public:
+  public:
     // threads <= 0 means "all hardware threads".
     explicit ThreadControl(int threads);
     ~ThreadControl();
     int threads() const { return threads_; }
 
-private:
+  private:
     int threads_;
     std::unique_ptr<tbb::global_control> control_;
 };

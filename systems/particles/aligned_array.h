@@ -16,12 +16,13 @@ template <class T>
 class AlignedArray {
     static_assert(std::is_trivially_copyable_v<T>);
 
-public:
+  public:
     AlignedArray() = default;
     explicit AlignedArray(std::size_t capacity) { reserve(capacity); }
     AlignedArray(const AlignedArray&) = delete;
     AlignedArray& operator=(const AlignedArray&) = delete;
-    AlignedArray(AlignedArray&& o) noexcept : data_(std::exchange(o.data_, nullptr)), capacity_(std::exchange(o.capacity_, 0)) {}
+    AlignedArray(AlignedArray&& o) noexcept
+        : data_(std::exchange(o.data_, nullptr)), capacity_(std::exchange(o.capacity_, 0)) {}
     AlignedArray& operator=(AlignedArray&& o) noexcept {
         std::swap(data_, o.data_);
         std::swap(capacity_, o.capacity_);
@@ -32,7 +33,7 @@ public:
     // Grows to at least `capacity`, keeping the first `keep` elements.
     void reserve(std::size_t capacity, std::size_t keep = 0) {
         if (capacity <= capacity_) return;
-        T* fresh = static_cast<T*>(::operator new(capacity * sizeof(T), std::align_val_t{kCacheLine}));
+        T* fresh = static_cast<T*>(::operator new (capacity * sizeof(T), std::align_val_t{kCacheLine}));
         if (keep > 0) std::memcpy(fresh, data_, keep * sizeof(T));
         release();
         data_ = fresh;
@@ -47,9 +48,9 @@ public:
     std::span<T> span(std::size_t n) { return {data_, n}; }
     std::span<const T> span(std::size_t n) const { return {data_, n}; }
 
-private:
+  private:
     void release() {
-        if (data_) ::operator delete(data_, std::align_val_t{kCacheLine});
+        if (data_) ::operator delete (data_, std::align_val_t{kCacheLine});
         data_ = nullptr;
         capacity_ = 0;
     }

@@ -11,7 +11,7 @@
 namespace rivulet {
 
 class ParticleSet {
-public:
+  public:
     ParticleSet() = default;
     explicit ParticleSet(std::size_t capacity) { reserve(capacity); }
 
@@ -41,7 +41,7 @@ public:
     void copy_from(const ParticleSet& other);
 
     ParticleSpans spans() {
-        return {x_.span(size_), y_.span(size_), z_.span(size_), vx_.span(size_),
+        return {x_.span(size_),  y_.span(size_),  z_.span(size_), vx_.span(size_),
                 vy_.span(size_), vz_.span(size_), id_.span(size_)};
     }
     ConstPositions positions() const { return {x_.span(size_), y_.span(size_), z_.span(size_)}; }
@@ -53,7 +53,7 @@ public:
     std::span<const float> vz() const { return vz_.span(size_); }
     std::span<const std::uint32_t> id() const { return id_.span(size_); }
 
-private:
+  private:
     AlignedArray<float> x_, y_, z_, vx_, vy_, vz_;
     AlignedArray<std::uint32_t> id_;
     std::size_t size_ = 0;

@@ -18,7 +18,7 @@ struct RenderSettings {
 };
 
 class Renderer {
-public:
+  public:
     explicit Renderer(const RenderSettings& settings);
     ~Renderer();
     Renderer(const Renderer&) = delete;
@@ -39,7 +39,7 @@ public:
     std::string gl_version() const;
     std::string gl_renderer() const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -14,7 +14,8 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     : settings_(settings), max_particles_(max_particles) {
     if (const std::string err = settings.validate(); !err.empty()) throw std::invalid_argument(err);
     if (max_particles == 0 || max_particles > (std::size_t(1) << 31))
-        throw std::invalid_argument("particle capacity must be in [1, 2^31], got " + std::to_string(max_particles));
+        throw std::invalid_argument("particle capacity must be in [1, 2^31], got " +
+                                    std::to_string(max_particles));
     layout_ = {settings.u, settings.v};
     grid_.top = settings.v_top;
     grid_.spacing = (settings.v_top - settings.v_bottom) / static_cast<float>(settings.v - 1);
@@ -23,7 +24,8 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
 
     entry_capacity_ = max_particles * std::min<std::size_t>(grid_.max_bins_per_particle(), settings.v);
     if (entry_capacity_ > (std::size_t(1) << 31))
-        throw std::invalid_argument("particles x cross-sections per particle exceed 2^31 bin entries: lower --v or --radius");
+        throw std::invalid_argument(
+            "particles x cross-sections per particle exceed 2^31 bin entries: lower --v or --radius");
     max_chunks_ = static_cast<std::uint32_t>((max_particles + kChunk - 1) / kChunk);
 
     cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
@@ -44,8 +46,10 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     for (int i = 0; i < 2; ++i) hash_start_[i].reserve(slots + 1), hash_items_[i].reserve(max_particles);
     list_offsets_.reserve(settings.max_groups + 1);
     list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
-    vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups), list_cursor_.reserve(settings.max_groups);
-    circle_cx_.reserve(entry_capacity_), circle_cz_.reserve(entry_capacity_), circle_rho_.reserve(entry_capacity_);
+    vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups),
+        list_cursor_.reserve(settings.max_groups);
+    circle_cx_.reserve(entry_capacity_), circle_cz_.reserve(entry_capacity_),
+        circle_rho_.reserve(entry_capacity_);
 }
 
 void ScanConverter::prepare_output(ScanOutput& out) const {
@@ -56,8 +60,8 @@ void ScanConverter::prepare_output(ScanOutput& out) const {
 
 void ScanConverter::begin_frame(ConstPositions p) {
     if (p.size() > max_particles_)
-        throw std::length_error("scan conversion capacity " + std::to_string(max_particles_) + " exceeded by " +
-                                std::to_string(p.size()) + " particles");
+        throw std::length_error("scan conversion capacity " + std::to_string(max_particles_) +
+                                " exceeded by " + std::to_string(p.size()) + " particles");
     particles_ = p.size();
     chunks_ = static_cast<std::uint32_t>((particles_ + kChunk - 1) / kChunk);
     grouping_ = {};
@@ -65,7 +69,9 @@ void ScanConverter::begin_frame(ConstPositions p) {
 
 void ScanConverter::bin_count(ConstPositions p, std::uint32_t chunk) {
     const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
-    bin_count_chunk(grid_, p.y.subspan(begin, end - begin), chunk_counts_.span(chunk_counts_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins));
+    bin_count_chunk(
+        grid_, p.y.subspan(begin, end - begin),
+        chunk_counts_.span(chunk_counts_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins));
 }
 
 void ScanConverter::bin_prefix() {
@@ -76,9 +82,10 @@ void ScanConverter::bin_prefix() {
 
 void ScanConverter::bin_scatter(ConstPositions p, std::uint32_t chunk) {
     const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
-    bin_scatter_chunk(grid_, p.y.subspan(begin, end - begin), static_cast<std::uint32_t>(begin),
-                      chunk_cursors_.span(chunk_cursors_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins),
-                      bin_entries_.span(entry_capacity_));
+    bin_scatter_chunk(
+        grid_, p.y.subspan(begin, end - begin), static_cast<std::uint32_t>(begin),
+        chunk_cursors_.span(chunk_cursors_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins),
+        bin_entries_.span(entry_capacity_));
 }
 
 BinTableView ScanConverter::bins() const {
@@ -95,30 +102,34 @@ void ScanConverter::group(ConstPositions p) {
                             {hash_items_[0].span(largest), hash_items_[1].span(largest)}};
     const GroupingParams params{settings_.grouping_distance(), settings_.max_groups};
     grouping_ = group_entries(p, table, params, entry_group_.span(entries_), scratch);
-    build_group_lists(table, entry_group_.span(entries_), grouping_.groups,
-                      {list_offsets_.span(grouping_.groups + 1), list_bin_.span(entries_), list_particle_.span(entries_),
-                       vmin_.span(grouping_.groups), vmax_.span(grouping_.groups),
-                       list_cursor_.span(grouping_.groups), grouped_.span(particles_)});
+    build_group_lists(
+        table, entry_group_.span(entries_), grouping_.groups,
+        {list_offsets_.span(grouping_.groups + 1), list_bin_.span(entries_), list_particle_.span(entries_),
+         vmin_.span(grouping_.groups), vmax_.span(grouping_.groups), list_cursor_.span(grouping_.groups),
+         grouped_.span(particles_)});
 }
 
 void ScanConverter::deform(ConstPositions p, std::uint32_t g, ScanOutput& out) {
     const std::uint32_t begin = list_offsets_[g], n = list_offsets_[g + 1] - begin;
-    const DeformParams params{grid_, layout_, settings_.section,
-                              {cos_t_.span(settings_.u), sin_t_.span(settings_.u)}};
+    const DeformParams params{
+        grid_, layout_, settings_.section, {cos_t_.span(settings_.u), sin_t_.span(settings_.u)}};
     const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
-    deform_cylinder(p, list_bin_.span(entries_).subspan(begin, n), list_particle_.span(entries_).subspan(begin, n),
-                    params, circle_cx_.span(entries_).subspan(begin, n), circle_cz_.span(entries_).subspan(begin, n),
+    deform_cylinder(p, list_bin_.span(entries_).subspan(begin, n),
+                    list_particle_.span(entries_).subspan(begin, n), params,
+                    circle_cx_.span(entries_).subspan(begin, n), circle_cz_.span(entries_).subspan(begin, n),
                     circle_rho_.span(entries_).subspan(begin, n),
                     out.vertices.span(out.vertices.capacity()).subspan(g * vpc, vpc));
 }
 
 void ScanConverter::normals(std::uint32_t g, ScanOutput& out) {
     const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
-    cylinder_normals(layout_, vmin_[g], vmax_[g], out.vertices.span(out.vertices.capacity()).subspan(g * vpc, vpc));
+    cylinder_normals(layout_, vmin_[g], vmax_[g],
+                     out.vertices.span(out.vertices.capacity()).subspan(g * vpc, vpc));
 }
 
 void ScanConverter::isolated(ConstPositions p, ScanOutput& out) {
-    out.sphere_count = collect_isolated(p, grouped_.span(particles_), out.sphere_centers.span(particles_ * 3));
+    out.sphere_count =
+        collect_isolated(p, grouped_.span(particles_), out.sphere_centers.span(particles_ * 3));
 }
 
 void ScanConverter::stage(ScanOutput& out) {

@@ -4,8 +4,10 @@
 // frame graph schedules, in this order:
 //
 //   bin_count(chunk)*  -> bin_prefix -> bin_scatter(chunk)*      hash sort into V bins  (jobs/bin_sort.h)
-//   -> group                                                      grouping + group lists (jobs/grouping.h, group_lists.h)
-//   -> deform(group)*  -> normals(group)*                         per cylinder           (jobs/deform_cylinder.h, cylinder_normals.h)
+//   -> group                                                      grouping + group lists (jobs/grouping.h,
+//   group_lists.h)
+//   -> deform(group)*  -> normals(group)*                         per cylinder (jobs/deform_cylinder.h,
+//   cylinder_normals.h)
 //   -> isolated (beside deform)                                   sphere instances       (jobs/group_lists.h)
 //   -> stage                                                      draw list, counters
 //   (* = independent items, run in parallel)
@@ -25,7 +27,7 @@
 namespace rivulet {
 
 class ScanConverter {
-public:
+  public:
     static constexpr std::uint32_t kChunk = 4096;  // particles per bin-sort chunk
 
     // Throws std::invalid_argument when settings.validate() fails.
@@ -60,7 +62,7 @@ public:
     std::uint32_t group_vmin(std::uint32_t g) const { return vmin_[g]; }
     std::uint32_t group_vmax(std::uint32_t g) const { return vmax_[g]; }
 
-private:
+  private:
     ScanSettings settings_;
     CylinderLayout layout_;
     BinGrid grid_;

@@ -13,14 +13,18 @@ TriangleMesh assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& lay
         const float* src = out.vertices.data() + d.cylinder * vpc * 6;
         const auto base = static_cast<std::uint32_t>(mesh.vertex_count());
         const std::uint32_t rings = d.vmax - d.vmin + 1;
-        auto copy_vertex = [&](std::uint32_t v) { mesh.vertices.insert(mesh.vertices.end(), src + 6 * v, src + 6 * v + 6); };
+        auto copy_vertex = [&](std::uint32_t v) {
+            mesh.vertices.insert(mesh.vertices.end(), src + 6 * v, src + 6 * v + 6);
+        };
         for (std::uint32_t r = d.vmin; r <= d.vmax; ++r)
             for (std::uint32_t k = 0; k < u; ++k) copy_vertex(layout.side_vertex(r, k));
         copy_vertex(layout.top_pole(d.vmin));
         copy_vertex(layout.bottom_pole(d.vmax));
         const std::uint32_t top = base + rings * u, bottom = top + 1;
         auto side = [&](std::uint32_t r, std::uint32_t k) { return base + (r - d.vmin) * u + k % u; };
-        auto tri = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { mesh.indices.insert(mesh.indices.end(), {a, b, c}); };
+        auto tri = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+            mesh.indices.insert(mesh.indices.end(), {a, b, c});
+        };
         // Same triangles and winding as write_cylinder_indices, renumbered.
         for (std::uint32_t b = d.vmin; b < d.vmax; ++b) {
             for (std::uint32_t k = 0; k < u; ++k) {
@@ -40,8 +44,8 @@ TriangleMesh assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& lay
         const auto base = static_cast<std::uint32_t>(mesh.vertex_count());
         for (std::size_t i = 0; i < sv; ++i) {
             const float* n = sphere.positions.data() + 3 * i;
-            mesh.vertices.insert(mesh.vertices.end(), {c[0] + radius * n[0], c[1] + radius * n[1], c[2] + radius * n[2],
-                                                       n[0], n[1], n[2]});
+            mesh.vertices.insert(mesh.vertices.end(), {c[0] + radius * n[0], c[1] + radius * n[1],
+                                                       c[2] + radius * n[2], n[0], n[1], n[2]});
         }
         for (std::uint32_t i : sphere.indices) mesh.indices.push_back(base + i);
     }

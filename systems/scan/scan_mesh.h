@@ -10,7 +10,7 @@
 namespace rivulet {
 
 struct TriangleMesh {
-    std::vector<float> vertices;        // 6 floats per vertex: position, normal
+    std::vector<float> vertices;         // 6 floats per vertex: position, normal
     std::vector<std::uint32_t> indices;  // triangles, counter-clockwise from outside
     std::size_t vertex_count() const { return vertices.size() / 6; }
     std::size_t triangle_count() const { return indices.size() / 3; }

@@ -10,8 +10,8 @@
 namespace rivulet {
 
 struct ScanOutput {
-    AlignedArray<float> vertices;     // max_groups * verts_per_cylinder * 6
-    AlignedArray<GroupDraw> draws;    // max_groups
+    AlignedArray<float> vertices;   // max_groups * verts_per_cylinder * 6
+    AlignedArray<GroupDraw> draws;  // max_groups
     std::uint32_t draw_count = 0;
     AlignedArray<float> sphere_centers;  // 3 per particle of capacity
     std::uint32_t sphere_count = 0;

@@ -12,12 +12,12 @@ struct ScanSettings {
     std::uint32_t u = 20;
     std::uint32_t v = 120;
     std::uint32_t max_groups = 150;
-    float radius = 0.02f;          // particle (sphere) radius, world units
-    float epsilon = 0;             // grouping distance; <= 0 means epsilon_diameters * 2 * radius
+    float radius = 0.02f;  // particle (sphere) radius, world units
+    float epsilon = 0;     // grouping distance; <= 0 means epsilon_diameters * 2 * radius
     float epsilon_diameters = 1.75f;
     CrossSectionParams section;
-    float v_top = 3;               // y of the first cross-section plane
-    float v_bottom = 0;            // y of the last cross-section plane
+    float v_top = 3;     // y of the first cross-section plane
+    float v_bottom = 0;  // y of the last cross-section plane
 
     float grouping_distance() const { return epsilon > 0 ? epsilon : epsilon_diameters * 2.0f * radius; }
     // Empty when valid, else what is wrong (for a clear error message).

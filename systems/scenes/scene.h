@@ -54,13 +54,13 @@ struct CameraDesc {
 
 struct SceneDesc {
     std::string name;
-    float particle_radius = 0.02f;     // world units
+    float particle_radius = 0.02f;  // world units
     std::uint32_t max_particles = 16384;
-    float dt = 1.0f / 60.0f;           // seconds per frame
+    float dt = 1.0f / 60.0f;  // seconds per frame
     int substeps = 2;
-    int warmup_frames = 90;            // simulated before frame 0 so pictures start in the steady state
+    int warmup_frames = 90;  // simulated before frame 0 so pictures start in the steady state
     std::uint64_t seed = 1;
-    float lifetime = 6.0f;             // seconds; older particles are recycled
+    float lifetime = 6.0f;  // seconds; older particles are recycled
     Vec3f gravity{0, -9.81f, 0};
     float ground_y = 0;
     float restitution = 0.3f;
@@ -69,7 +69,7 @@ struct SceneDesc {
     std::vector<SphereCollider> spheres;
     std::vector<BoxCollider> boxes;
     PoolDesc pool;
-    float v_min = 0, v_max = 3;        // extent of the cylinders along +y (scan conversion domain)
+    float v_min = 0, v_max = 3;  // extent of the cylinders along +y (scan conversion domain)
     CameraDesc camera;
 };
 

@@ -29,6 +29,7 @@ std::vector<std::int32_t> group(const Cloud& c, const Bins& bins, float eps, std
                                 GroupingResult* result = nullptr);
 
 // Per particle: the group of its first grouped entry, or kIsolated.
-std::vector<std::int32_t> particle_groups(const Bins& bins, const std::vector<std::int32_t>& entry_group, std::size_t n);
+std::vector<std::int32_t> particle_groups(const Bins& bins, const std::vector<std::int32_t>& entry_group,
+                                          std::size_t n);
 
 }  // namespace rivulet::test

@@ -1,11 +1,11 @@
 #include "support/test_support.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <tuple>
-#include <unistd.h>
 #include <utility>
 #include <vector>
 
@@ -33,7 +33,8 @@ std::size_t count_open_edges(std::span<const float> p, std::span<const std::uint
             edges[{std::min(a, b), std::max(a, b)}]++;
         }
     }
-    return static_cast<std::size_t>(std::count_if(edges.begin(), edges.end(), [](auto& kv) { return kv.second != 2; }));
+    return static_cast<std::size_t>(
+        std::count_if(edges.begin(), edges.end(), [](auto& kv) { return kv.second != 2; }));
 }
 
 std::string temp_path(const std::string& name) {
