@@ -19,39 +19,7 @@
 #include "systems/sim/height_field_pool.h"
 #include "systems/sim/stream_sim.h"
 
-// Counts every allocation in this executable, so a test can assert that the frame loop makes none.
-namespace {
-std::atomic<std::size_t> g_allocations{0};
-// Out of line so GCC does not pair the inlined free() with a builtin operator new and warn.
-[[gnu::noinline]] void release(void* p) noexcept {
-    std::free(p);
-}
-}  // namespace
-
-void* operator new(std::size_t n) {
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(n ? n : 1)) return p;
-    throw std::bad_alloc();
-}
-void* operator new(std::size_t n, std::align_val_t a) {
-    g_allocations.fetch_add(1, std::memory_order_relaxed);
-    const std::size_t align = static_cast<std::size_t>(a);
-    if (void* p = std::aligned_alloc(align, (std::max<std::size_t>(n, 1) + align - 1) / align * align))
-        return p;
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-    release(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-    release(p);
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-    release(p);
-}
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept {
-    release(p);
-}
+#include "support/counting_new.h"
 
 namespace rivulet {
 namespace {
@@ -183,13 +151,13 @@ TEST(StreamSim, FrameLoopDoesNotAllocate) {
     const SceneDesc scene = make_builtin_scene("faucet");  // emitters, sphere, boxes and pool
     StreamSimulation sim(scene);
     ParticleSet ps(scene.max_particles);
-    const std::size_t before = g_allocations.load();
+    const std::size_t before = rivulet::test::allocation_count();
     for (std::uint64_t f = 0; f < 200; ++f) {
         sim.begin_frame(ps, f);
         integrate_split(sim, ps, f);
         sim.end_frame(ps);
     }
-    EXPECT_EQ(g_allocations.load(), before);
+    EXPECT_EQ(rivulet::test::allocation_count(), before);
     EXPECT_GT(ps.size(), 1000u);
 }
 
