@@ -30,6 +30,22 @@ void* operator new(std::size_t n, std::align_val_t a) {
         return p;
     throw std::bad_alloc();
 }
+// The nothrow forms too, so every allocation pairs with the delete below (sanitizers check the pairing).
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+    rivulet::test::g_allocations.fetch_add(1, std::memory_order_relaxed);
+    return std::malloc(n ? n : 1);
+}
+void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+    rivulet::test::g_allocations.fetch_add(1, std::memory_order_relaxed);
+    const auto align = static_cast<std::size_t>(a);
+    return std::aligned_alloc(align, (std::max<std::size_t>(n, 1) + align - 1) / align * align);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+    rivulet::test::release(p);
+}
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept {
+    rivulet::test::release(p);
+}
 void operator delete(void* p) noexcept {
     rivulet::test::release(p);
 }
