@@ -42,12 +42,16 @@ std::uint32_t bin_prefix(std::uint32_t bins, std::uint32_t chunks, std::span<con
     return running;
 }
 
-void bin_scatter_chunk(const BinGrid& grid, std::span<const float> y, std::uint32_t first_index,
-                       std::span<std::uint32_t> cursors, std::span<std::uint32_t> entries) {
+void bin_scatter_chunk(const BinGrid& grid, ConstPositions p, std::uint32_t first_index,
+                       std::span<std::uint32_t> cursors, const BinEntriesOut& out) {
     std::uint32_t first = 0, last = 0;
-    for (std::uint32_t i = 0; i < y.size(); ++i) {
-        if (!grid.span_of(y[i], first, last)) continue;
-        for (std::uint32_t b = first; b <= last; ++b) entries[cursors[b]++] = first_index + i;
+    for (std::uint32_t i = 0; i < p.size(); ++i) {
+        if (!grid.span_of(p.y[i], first, last)) continue;
+        for (std::uint32_t b = first; b <= last; ++b) {
+            const std::uint32_t e = cursors[b]++;
+            out.entries[e] = first_index + i;
+            out.ex[e] = p.x[i], out.ey[e] = p.y[i], out.ez[e] = p.z[i];
+        }
     }
 }
 

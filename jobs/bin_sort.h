@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <span>
 
+#include "jobs/particle_spans.h"
+
 namespace rivulet {
 
 struct BinGrid {
@@ -24,10 +26,12 @@ struct BinGrid {
     std::uint32_t max_bins_per_particle() const;
 };
 
-// The result: entries[offsets[b] .. offsets[b+1]) are the particle indices in bin b, ascending.
+// The result: entries[offsets[b] .. offsets[b+1]) are the particle indices in bin b, ascending; ex, ey,
+// ez hold each entry's particle position in the same order, so per-bin searches read contiguous memory.
 struct BinTableView {
     std::span<const std::uint32_t> offsets;  // bins + 1
     std::span<const std::uint32_t> entries;
+    std::span<const float> ex, ey, ez;
     std::uint32_t bin_size(std::uint32_t b) const { return offsets[b + 1] - offsets[b]; }
     std::span<const std::uint32_t> bin(std::uint32_t b) const {
         return entries.subspan(offsets[b], offsets[b + 1] - offsets[b]);
@@ -42,8 +46,14 @@ void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<st
 std::uint32_t bin_prefix(std::uint32_t bins, std::uint32_t chunks, std::span<const std::uint32_t> counts,
                          std::span<std::uint32_t> cursors, std::span<std::uint32_t> offsets);
 
-// Pass 2, per chunk: writes the indices (first_index + i) of chunk `y` at its cursors (advanced in place).
-void bin_scatter_chunk(const BinGrid& grid, std::span<const float> y, std::uint32_t first_index,
-                       std::span<std::uint32_t> cursors, std::span<std::uint32_t> entries);
+struct BinEntriesOut {
+    std::span<std::uint32_t> entries;
+    std::span<float> ex, ey, ez;
+};
+
+// Pass 2, per chunk: writes the indices (first_index + i) and positions of chunk `p` at its cursors
+// (advanced in place).
+void bin_scatter_chunk(const BinGrid& grid, ConstPositions p, std::uint32_t first_index,
+                       std::span<std::uint32_t> cursors, const BinEntriesOut& out);
 
 }  // namespace rivulet

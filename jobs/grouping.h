@@ -8,35 +8,22 @@
 //                                                     Gk blocked -> pj isolated; else join Gk, block Gk;
 //     else pj is isolated.
 //   clear all blocks.
+// Which pk is "first within eps" depends on geometry only, so it is found per bin in parallel
+// (bin_neighbours.h); assign_groups() applies the rules in one serial pass.
 // Decisions where the pseudocode is silent (docs/scan_conversion.md):
 //  - A group created through an isolated entry of bin i-1 is blocked in bin i as well: like a join, it
 //    extends a group from the previous bin, and a second cluster must not follow it.
 //  - When the cylinder pool is exhausted the entry stays isolated and the shortage is counted.
 //  - A particle none of whose entries joined a group is an isolated particle (drawn as a sphere).
-// "First" always means lowest position in bin order, so the result depends only on the input. Large
-// bins are searched through a 2D hash of cell size eps, with the same result as a linear scan.
 #include <cstdint>
 #include <span>
 
+#include "jobs/bin_neighbours.h"
 #include "jobs/bin_sort.h"
-#include "jobs/particle_spans.h"
 
 namespace rivulet {
 
 inline constexpr std::int32_t kIsolated = -1;
-
-struct GroupingParams {
-    float epsilon = 0.07f;
-    std::uint32_t max_groups = 150;
-};
-
-// Scratch owned by the caller, sized once: blocked_bin has max_groups slots; each hash table has
-// grouping_hash_slots(largest bin) start slots and room for the largest bin's items.
-struct GroupingScratch {
-    std::span<std::uint32_t> blocked_bin;
-    std::span<std::uint32_t> hash_start[2];
-    std::span<std::uint32_t> hash_items[2];
-};
 
 struct GroupingResult {
     std::uint32_t groups = 0;            // groups created: ids [0, groups)
@@ -44,10 +31,20 @@ struct GroupingResult {
     std::uint32_t pool_exhausted = 0;    // entries isolated only because no cylinder was left
 };
 
-std::size_t grouping_hash_slots(std::uint32_t max_bin_size);
+// The serial pass: entry_group[e] receives the group of entry e, or kIsolated. blocked_bin: max_groups
+// slots of scratch.
+GroupingResult assign_groups(BinTableView bins, std::span<const std::uint32_t> first_current,
+                             std::span<const std::uint32_t> first_above, std::uint32_t max_groups,
+                             std::span<std::int32_t> entry_group, std::span<std::uint32_t> blocked_bin);
 
-// entry_group[e] receives the group of bins.entries[e], or kIsolated.
-GroupingResult group_entries(ConstPositions particles, BinTableView bins, const GroupingParams& params,
+struct GroupingScratch {
+    BinHashes hashes;
+    std::span<std::uint32_t> first_current, first_above;  // one per entry
+    std::span<std::uint32_t> blocked_bin;                 // max_groups
+};
+
+// Everything on the calling thread: hashes and neighbours of every bin, then assign_groups().
+GroupingResult group_entries(BinTableView bins, float eps, std::uint32_t max_groups,
                              std::span<std::int32_t> entry_group, const GroupingScratch& scratch);
 
 }  // namespace rivulet

@@ -15,6 +15,7 @@ namespace {
 
 struct Table {
     std::vector<std::uint32_t> offsets, entries;
+    std::vector<float> ex, ey, ez;
 };
 
 Table sort_in_chunks(const BinGrid& grid, const std::vector<float>& y, std::uint32_t chunk) {
@@ -29,11 +30,21 @@ Table sort_in_chunks(const BinGrid& grid, const std::vector<float>& y, std::uint
                         std::span(counts).subspan(std::size_t(c) * grid.bins, grid.bins));
     }
     const std::uint32_t total = bin_prefix(grid.bins, chunks, counts, cursors, t.offsets);
-    t.entries.resize(total);
+    t.entries.resize(total), t.ex.resize(total), t.ey.resize(total), t.ez.resize(total);
+    // x and z are functions of the index so the copied positions can be checked.
+    std::vector<float> x(n), z(n);
+    for (std::uint32_t i = 0; i < n; ++i) x[i] = static_cast<float>(i), z[i] = -static_cast<float>(i);
     for (std::uint32_t c = 0; c < chunks; ++c) {
         const std::uint32_t b = c * chunk, e = std::min(n, b + chunk);
-        bin_scatter_chunk(grid, std::span(y).subspan(b, e - b), b,
-                          std::span(cursors).subspan(std::size_t(c) * grid.bins, grid.bins), t.entries);
+        const ConstPositions part{std::span(x).subspan(b, e - b), std::span(y).subspan(b, e - b),
+                                  std::span(z).subspan(b, e - b)};
+        bin_scatter_chunk(grid, part, b, std::span(cursors).subspan(std::size_t(c) * grid.bins, grid.bins),
+                          {t.entries, t.ex, t.ey, t.ez});
+    }
+    for (std::uint32_t k = 0; k < total; ++k) {
+        const std::uint32_t i = t.entries[k];
+        if (t.ex[k] != x[i] || t.ey[k] != y[i] || t.ez[k] != z[i])
+            ADD_FAILURE() << "entry " << k << " position";
     }
     return t;
 }

@@ -38,12 +38,13 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     chunk_cursors_.reserve(std::size_t(max_chunks_) * grid_.bins);
     bin_offsets_.reserve(grid_.bins + 1);
     bin_entries_.reserve(entry_capacity_);
+    entry_x_.reserve(entry_capacity_), entry_y_.reserve(entry_capacity_), entry_z_.reserve(entry_capacity_);
     entry_group_.reserve(entry_capacity_);
     grouped_.reserve(max_particles);
     blocked_bin_.reserve(settings.max_groups);
-    // A bin holds each particle at most once, so max_particles bounds every bin.
-    const std::size_t slots = grouping_hash_slots(static_cast<std::uint32_t>(max_particles));
-    for (int i = 0; i < 2; ++i) hash_start_[i].reserve(slots + 1), hash_items_[i].reserve(max_particles);
+    hash_start_.reserve(bin_hash_start_capacity(entry_capacity_, grid_.bins));
+    hash_items_.reserve(entry_capacity_);
+    first_current_.reserve(entry_capacity_), first_above_.reserve(entry_capacity_);
     list_offsets_.reserve(settings.max_groups + 1);
     list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
     vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups),
@@ -82,26 +83,36 @@ void ScanConverter::bin_prefix() {
 
 void ScanConverter::bin_scatter(ConstPositions p, std::uint32_t chunk) {
     const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
+    const std::size_t n = end - begin;
     bin_scatter_chunk(
-        grid_, p.y.subspan(begin, end - begin), static_cast<std::uint32_t>(begin),
+        grid_, {p.x.subspan(begin, n), p.y.subspan(begin, n), p.z.subspan(begin, n)},
+        static_cast<std::uint32_t>(begin),
         chunk_cursors_.span(chunk_cursors_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins),
-        bin_entries_.span(entry_capacity_));
+        {bin_entries_.span(entry_capacity_), entry_x_.span(entry_capacity_), entry_y_.span(entry_capacity_),
+         entry_z_.span(entry_capacity_)});
 }
 
 BinTableView ScanConverter::bins() const {
-    return {bin_offsets_.span(grid_.bins + 1), bin_entries_.span(entries_)};
+    return {bin_offsets_.span(grid_.bins + 1), bin_entries_.span(entries_), entry_x_.span(entries_),
+            entry_y_.span(entries_), entry_z_.span(entries_)};
 }
 
-void ScanConverter::group(ConstPositions p) {
+void ScanConverter::bin_hash(std::uint32_t bin) {
+    build_bin_hash(bins(), bin, settings_.grouping_distance(),
+                   {hash_start_.span(hash_start_.capacity()), hash_items_.span(entries_)});
+}
+
+void ScanConverter::bin_neighbours(std::uint32_t bin) {
+    find_bin_neighbours(bins(), bin, settings_.grouping_distance(),
+                        {hash_start_.span(hash_start_.capacity()), hash_items_.span(entries_)},
+                        first_current_.span(entries_), first_above_.span(entries_));
+}
+
+void ScanConverter::group() {
     const BinTableView table = bins();
-    std::uint32_t largest = 0;
-    for (std::uint32_t b = 0; b < grid_.bins; ++b) largest = std::max(largest, table.bin_size(b));
-    const std::size_t slots = grouping_hash_slots(largest);
-    GroupingScratch scratch{blocked_bin_.span(settings_.max_groups),
-                            {hash_start_[0].span(slots + 1), hash_start_[1].span(slots + 1)},
-                            {hash_items_[0].span(largest), hash_items_[1].span(largest)}};
-    const GroupingParams params{settings_.grouping_distance(), settings_.max_groups};
-    grouping_ = group_entries(p, table, params, entry_group_.span(entries_), scratch);
+    grouping_ =
+        assign_groups(table, first_current_.span(entries_), first_above_.span(entries_), settings_.max_groups,
+                      entry_group_.span(entries_), blocked_bin_.span(settings_.max_groups));
     build_group_lists(
         table, entry_group_.span(entries_), grouping_.groups,
         {list_offsets_.span(grouping_.groups + 1), list_bin_.span(entries_), list_particle_.span(entries_),
@@ -149,7 +160,9 @@ void ScanConverter::extract_serial(ConstPositions p, ScanOutput& out) {
     for (std::uint32_t c = 0; c < chunks_; ++c) bin_count(p, c);
     bin_prefix();
     for (std::uint32_t c = 0; c < chunks_; ++c) bin_scatter(p, c);
-    group(p);
+    for (std::uint32_t b = 0; b < grid_.bins; ++b) bin_hash(b);
+    for (std::uint32_t b = 0; b < grid_.bins; ++b) bin_neighbours(b);
+    group();
     for (std::uint32_t g = 0; g < groups(); ++g) deform(p, g, out);
     for (std::uint32_t g = 0; g < groups(); ++g) normals(g, out);
     isolated(p, out);

@@ -46,7 +46,10 @@ class ScanConverter {
     void bin_count(ConstPositions p, std::uint32_t chunk);
     void bin_prefix();
     void bin_scatter(ConstPositions p, std::uint32_t chunk);
-    void group(ConstPositions p);
+    std::uint32_t bins_count() const { return grid_.bins; }
+    void bin_hash(std::uint32_t bin);
+    void bin_neighbours(std::uint32_t bin);
+    void group();
     std::uint32_t groups() const { return grouping_.groups; }
     void deform(ConstPositions p, std::uint32_t group, ScanOutput& out);
     void normals(std::uint32_t group, ScanOutput& out);
@@ -77,9 +80,10 @@ class ScanConverter {
 
     AlignedArray<float> cos_t_, sin_t_;
     AlignedArray<std::uint32_t> chunk_counts_, chunk_cursors_, bin_offsets_, bin_entries_;
+    AlignedArray<float> entry_x_, entry_y_, entry_z_;
     AlignedArray<std::int32_t> entry_group_;
     AlignedArray<std::uint8_t> grouped_;
-    AlignedArray<std::uint32_t> blocked_bin_, hash_start_[2], hash_items_[2];
+    AlignedArray<std::uint32_t> blocked_bin_, hash_start_, hash_items_, first_current_, first_above_;
     AlignedArray<std::uint32_t> list_offsets_, list_bin_, list_particle_, vmin_, vmax_, list_cursor_;
     AlignedArray<float> circle_cx_, circle_cz_, circle_rho_;
 };

@@ -1,7 +1,5 @@
 #include "support/scan_fixtures.h"
 
-#include <algorithm>
-
 namespace rivulet::test {
 
 Bins bin_sort(const BinGrid& grid, const Cloud& c) {
@@ -9,22 +7,20 @@ Bins bin_sort(const BinGrid& grid, const Cloud& c) {
     std::vector<std::uint32_t> counts(grid.bins), cursors(grid.bins);
     b.offsets.resize(grid.bins + 1);
     bin_count_chunk(grid, c.y, counts);
-    b.entries.resize(bin_prefix(grid.bins, 1, counts, cursors, b.offsets));
-    bin_scatter_chunk(grid, c.y, 0, cursors, b.entries);
+    const std::uint32_t n = bin_prefix(grid.bins, 1, counts, cursors, b.offsets);
+    b.entries.resize(n), b.ex.resize(n), b.ey.resize(n), b.ez.resize(n);
+    bin_scatter_chunk(grid, c.view(), 0, cursors, {b.entries, b.ex, b.ey, b.ez});
     return b;
 }
 
-std::vector<std::int32_t> group(const Cloud& c, const Bins& bins, float eps, std::uint32_t max_groups,
+std::vector<std::int32_t> group(const Cloud&, const Bins& bins, float eps, std::uint32_t max_groups,
                                 GroupingResult* result) {
-    std::uint32_t largest = 0;
-    for (std::size_t i = 0; i + 1 < bins.offsets.size(); ++i)
-        largest = std::max(largest, bins.offsets[i + 1] - bins.offsets[i]);
-    const std::size_t slots = grouping_hash_slots(largest);
-    std::vector<std::uint32_t> blocked(max_groups), hs0(slots + 1), hs1(slots + 1), hi0(largest),
-        hi1(largest);
-    std::vector<std::int32_t> entry_group(bins.entries.size());
-    const GroupingResult r = group_entries(c.view(), bins.view(), {eps, max_groups}, entry_group,
-                                           {blocked, {hs0, hs1}, {hi0, hi1}});
+    const std::size_t n = bins.entries.size();
+    std::vector<std::uint32_t> start(bin_hash_start_capacity(n, bins.offsets.size() - 1)), items(n), cur(n),
+        above(n), blocked(max_groups);
+    std::vector<std::int32_t> entry_group(n);
+    const GroupingResult r =
+        group_entries(bins.view(), eps, max_groups, entry_group, {{start, items}, cur, above, blocked});
     if (result) *result = r;
     return entry_group;
 }

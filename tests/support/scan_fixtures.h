@@ -18,7 +18,8 @@ struct Cloud {
 
 struct Bins {
     std::vector<std::uint32_t> offsets, entries;
-    BinTableView view() const { return {offsets, entries}; }
+    std::vector<float> ex, ey, ez;
+    BinTableView view() const { return {offsets, entries, ex, ey, ez}; }
 };
 
 // Single-chunk bin sort.
