@@ -4,8 +4,10 @@
 #include <exception>
 
 #include "cli/commands.h"
+#include "runtime/lib/allocator_tuning.h"
 
 int main(int argc, char** argv) {
+    rivulet::keep_freed_memory_for_reuse();
     CLI::App app{"Rivulet: a task-graph runtime that turns particle fluids into surfaces and pictures"};
     app.require_subcommand(1);
     int status = 0;
