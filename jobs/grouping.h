@@ -45,6 +45,7 @@ struct GroupingScratch {
 
 // Everything on the calling thread: hashes and neighbours of every bin, then assign_groups().
 GroupingResult group_entries(BinTableView bins, float eps, std::uint32_t max_groups,
-                             std::span<std::int32_t> entry_group, const GroupingScratch& scratch);
+                             std::span<std::int32_t> entry_group, const GroupingScratch& scratch,
+                             std::uint32_t linear_scan_max = kDefaultLinearScanMax);
 
 }  // namespace rivulet

@@ -140,7 +140,7 @@ std::vector<std::int32_t> reference_grouping(const Cloud& c, const Bins& bins, f
 
 }  // namespace
 
-TEST(Grouping, HashedSearchMatchesTheLinearPseudocode) {
+TEST(Grouping, HashedAndBlockedSearchesMatchTheLinearPseudocode) {
     std::mt19937 rng(11);
     for (int trial = 0; trial < 6; ++trial) {
         Cloud c;
@@ -155,9 +155,12 @@ TEST(Grouping, HashedSearchMatchesTheLinearPseudocode) {
         const BinGrid grid{2.0f, 0.1f, 21, 0.03f};
         const Bins bins = rivulet::test::bin_sort(grid, c);
         const std::uint32_t max_groups = trial % 2 ? 150 : 12;  // also when the pool runs out
-        const auto got = rivulet::test::group(c, bins, 0.1f, max_groups);
         const auto want = reference_grouping(c, bins, 0.1f, max_groups);
-        ASSERT_EQ(got, want) << "trial " << trial;
+        // Every bin through the hash, every bin through the blocked linear scan, and the default mix.
+        for (std::uint32_t linear_scan_max : {0u, 1u << 30, kDefaultLinearScanMax}) {
+            const auto got = rivulet::test::group(c, bins, 0.1f, max_groups, nullptr, linear_scan_max);
+            ASSERT_EQ(got, want) << "trial " << trial << ", linear scan up to " << linear_scan_max;
+        }
     }
 }
 

@@ -44,6 +44,7 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     blocked_bin_.reserve(settings.max_groups);
     hash_start_.reserve(bin_hash_start_capacity(entry_capacity_, grid_.bins));
     hash_items_.reserve(entry_capacity_);
+    hash_x_.reserve(entry_capacity_), hash_y_.reserve(entry_capacity_), hash_z_.reserve(entry_capacity_);
     first_current_.reserve(entry_capacity_), first_above_.reserve(entry_capacity_);
     list_offsets_.reserve(settings.max_groups + 1);
     list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
@@ -97,15 +98,18 @@ BinTableView ScanConverter::bins() const {
             entry_y_.span(entries_), entry_z_.span(entries_)};
 }
 
+BinHashes ScanConverter::hashes() {
+    return {hash_start_.span(hash_start_.capacity()), hash_items_.span(entries_), hash_x_.span(entries_),
+            hash_y_.span(entries_), hash_z_.span(entries_)};
+}
+
 void ScanConverter::bin_hash(std::uint32_t bin) {
-    build_bin_hash(bins(), bin, settings_.grouping_distance(),
-                   {hash_start_.span(hash_start_.capacity()), hash_items_.span(entries_)});
+    build_bin_hash(bins(), bin, settings_.grouping_distance(), hashes());
 }
 
 void ScanConverter::bin_neighbours(std::uint32_t bin) {
-    find_bin_neighbours(bins(), bin, settings_.grouping_distance(),
-                        {hash_start_.span(hash_start_.capacity()), hash_items_.span(entries_)},
-                        first_current_.span(entries_), first_above_.span(entries_));
+    find_bin_neighbours(bins(), bin, settings_.grouping_distance(), hashes(), first_current_.span(entries_),
+                        first_above_.span(entries_));
 }
 
 void ScanConverter::group() {

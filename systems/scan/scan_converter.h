@@ -84,6 +84,8 @@ class ScanConverter {
     AlignedArray<std::int32_t> entry_group_;
     AlignedArray<std::uint8_t> grouped_;
     AlignedArray<std::uint32_t> blocked_bin_, hash_start_, hash_items_, first_current_, first_above_;
+    AlignedArray<float> hash_x_, hash_y_, hash_z_;
+    BinHashes hashes();
     AlignedArray<std::uint32_t> list_offsets_, list_bin_, list_particle_, vmin_, vmax_, list_cursor_;
     AlignedArray<float> circle_cx_, circle_cz_, circle_rho_;
 };

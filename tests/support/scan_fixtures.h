@@ -27,7 +27,8 @@ Bins bin_sort(const BinGrid& grid, const Cloud& c);
 
 // Runs group_entries with scratch sized for this input; returns the group of every bin entry.
 std::vector<std::int32_t> group(const Cloud& c, const Bins& bins, float eps, std::uint32_t max_groups,
-                                GroupingResult* result = nullptr);
+                                GroupingResult* result = nullptr,
+                                std::uint32_t linear_scan_max = kDefaultLinearScanMax);
 
 // Per particle: the group of its first grouped entry, or kIsolated.
 std::vector<std::int32_t> particle_groups(const Bins& bins, const std::vector<std::int32_t>& entry_group,
