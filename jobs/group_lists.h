@@ -23,8 +23,4 @@ struct GroupListsOut {
 void build_group_lists(BinTableView bins, std::span<const std::int32_t> entry_group, std::uint32_t groups,
                        const GroupListsOut& out);
 
-// Writes xyz of every particle that joined no group, in particle order; returns how many.
-std::uint32_t collect_isolated(ConstPositions particles, std::span<const std::uint8_t> grouped,
-                               std::span<float> centers_xyz);
-
 }  // namespace rivulet

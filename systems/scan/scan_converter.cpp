@@ -7,6 +7,7 @@
 
 #include "jobs/cylinder_normals.h"
 #include "jobs/group_lists.h"
+#include "jobs/isolated_particles.h"
 
 namespace rivulet {
 
