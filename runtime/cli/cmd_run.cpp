@@ -116,7 +116,8 @@ void add_run_command(CLI::App& app, int& status) {
         ->capture_default_str();
     cmd->add_option("--size", opts->size, "Picture size WxH")->capture_default_str();
     cmd->add_option("--json", opts->json, "Write the timing summary as JSON");
-    cmd->add_option("--warmup", opts->warmup, "Simulated frames before frame 0 (default: the scene's)");
+    cmd->add_option("--warmup", opts->warmup, "Simulated frames before frame 0 (default: the scene's)")
+        ->check(CLI::Range(0, 1000000));
     cmd->add_flag("--no-pipeline", opts->no_pipeline, "Extract frame N+1 only after frame N is rendered");
     cmd->add_flag("--no-render", opts->no_render, "Simulate and extract only (no GL, no pictures)");
     opts->scan.add_to(*cmd);

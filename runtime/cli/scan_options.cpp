@@ -1,9 +1,27 @@
 #include <fmt/format.h>
+#include <cmath>
+#include <cstdlib>
 #include <stdexcept>
 
 #include "cli/commands.h"
 
 namespace rivulet::cli {
+namespace {
+
+// CLI11's PositiveNumber prints its range up to DBL_MAX in full; this says it plainly.
+CLI::Validator positive_number() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double v = std::strtod(text.c_str(), &end);
+            if (end == text.c_str() || *end != '\0' || !(v > 0) || !std::isfinite(v))
+                return "must be a positive number, got '" + text + "'";
+            return {};
+        },
+        "POSITIVE");
+}
+
+}  // namespace
 
 void ScanOptions::add_to(CLI::App& cmd) {
     cmd.add_option("--u", settings.u, "Cylinder vertices around a ring (U)")->capture_default_str();
@@ -11,7 +29,8 @@ void ScanOptions::add_to(CLI::App& cmd) {
     cmd.add_option("--max-groups", settings.max_groups, "Preallocated cylinders (max groups)")
         ->capture_default_str();
     cmd.add_option("--epsilon", settings.epsilon,
-                   "Grouping distance in world units (default: 1.75 sphere diameters)");
+                   "Grouping distance in world units (default: 1.75 sphere diameters)")
+        ->check(positive_number());
     cmd.add_option("--radial", radial,
                    "Radial function: maxima (circle maxima) or gaussian (blended gaussians)")
         ->capture_default_str();
