@@ -18,6 +18,7 @@
 
 #include "jobs/counter_rng.h"
 #include "jobs/cross_section.h"
+#include "perf/support/falling_stream.h"
 #include "systems/particles/particle_set.h"
 #include "systems/scan/scan_converter.h"
 #include "systems/scenes/scene.h"
@@ -25,45 +26,11 @@
 
 namespace {
 
-constexpr float kRadius = 0.02f;
+constexpr float kRadius = rivulet::perf::kStreamRadius;
 constexpr std::uint64_t kSeed = 2008;
 constexpr std::size_t kParticles = 8000;
 
-// Identical to falling_stream() in bench_scan_table.cpp (see the description there).
-rivulet::ParticleSet falling_stream(std::size_t particles) {
-    constexpr float kDrop = 1.5f, kGravity = 9.81f, kVx = 0.4f, kVy = 0.3f;
-    constexpr float kPitch = 0.35f;
-    constexpr std::size_t kPerStream = 1000, kMaxStreams = 64;
-    const std::size_t slices = static_cast<std::size_t>(kDrop / kRadius);
-    const std::size_t streams =
-        std::clamp<std::size_t>((particles + kPerStream - 1) / kPerStream, 1, kMaxStreams);
-    const auto grid = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(streams))));
-    const std::size_t per_slice = (particles + streams * slices - 1) / (streams * slices);
-    const float disk = kRadius * std::sqrt(static_cast<float>(per_slice) / std::numbers::pi_v<float>) * 1.05f;
-    constexpr float kGolden = 2.39996323f;
-
-    rivulet::ParticleSet set(particles);
-    auto uniform = [](std::size_t i, std::uint64_t what) {
-        return 2.0f * rivulet::counter_uniform(kSeed, 0, i, what) - 1.0f;
-    };
-    for (std::size_t i = 0; i < particles; ++i) {
-        const std::size_t stream = i % streams;
-        const std::size_t slice = (i / streams) % slices;
-        const std::size_t k = i / (streams * slices);
-        const float depth = (static_cast<float>(slice) + 0.5f) * kRadius;
-        const float t = (-kVy + std::sqrt(kVy * kVy + 2.0f * kGravity * depth)) / kGravity;
-        const float cx = static_cast<float>(stream % grid) * kPitch + kVx * t;
-        const float cz = static_cast<float>(stream / grid) * kPitch;
-        const float rot =
-            2.0f * std::numbers::pi_v<float> * rivulet::counter_uniform(kSeed, 1, stream * slices + slice, 0);
-        const float rr = disk * std::sqrt((static_cast<float>(k) + 0.5f) / static_cast<float>(per_slice));
-        const float a = rot + kGolden * static_cast<float>(k);
-        const float j = 0.25f * kRadius;
-        set.push(cx + rr * std::cos(a) + j * uniform(i, 1), kDrop - depth + j * uniform(i, 2),
-                 cz + rr * std::sin(a) + j * uniform(i, 3), 0, 0, 0, static_cast<std::uint32_t>(i));
-    }
-    return set;
-}
+using rivulet::perf::falling_stream;
 
 // The 8,000-particle stream, binned and grouped once (so each benchmark can run its job alone).
 struct ScanFixture {
