@@ -23,13 +23,17 @@ void circle_maxima(CirclesView c, AngleTable a, std::span<float> r) {
 void smooth_cyclic(std::span<float> r, int iterations, std::span<float> tmp) {
     const std::size_t u = r.size();
     if (u < 3) return;
+    // Ping-pong between r and tmp; the wrap-around ends are done apart so the middle loop vectorizes.
+    float* src = r.data();
+    float* dst = tmp.data();
     for (int it = 0; it < iterations; ++it) {
-        for (std::size_t k = 0; k < u; ++k) {
-            const float prev = r[k == 0 ? u - 1 : k - 1], next = r[k + 1 == u ? 0 : k + 1];
-            tmp[k] = 0.25f * prev + 0.5f * r[k] + 0.25f * next;
-        }
-        std::copy(tmp.begin(), tmp.begin() + static_cast<std::ptrdiff_t>(u), r.begin());
+        dst[0] = 0.25f * src[u - 1] + 0.5f * src[0] + 0.25f * src[1];
+        for (std::size_t k = 1; k + 1 < u; ++k)
+            dst[k] = 0.25f * src[k - 1] + 0.5f * src[k] + 0.25f * src[k + 1];
+        dst[u - 1] = 0.25f * src[u - 2] + 0.5f * src[u - 1] + 0.25f * src[0];
+        std::swap(src, dst);
     }
+    if (src != r.data()) std::copy(src, src + u, r.data());
 }
 
 void gaussian_blend(CirclesView c, AngleTable a, float tension, std::span<float> r, std::span<float> alpha) {

@@ -24,28 +24,28 @@ void cylinder_normals(const CylinderLayout& layout, std::uint32_t vmin, std::uin
     const std::uint32_t first = layout.ring_first_vertex(vmin), last = layout.ring_first_vertex(vmax + 1);
     for (std::uint32_t i = first; i < last; ++i) v[6 * i + 3] = v[6 * i + 4] = v[6 * i + 5] = 0.0f;
 
-    // Same triangles, same winding as write_cylinder_indices.
+    // Same triangles, same winding as write_cylinder_indices, walked ring by ring.
     for (std::uint32_t b = vmin; b < vmax; ++b) {
+        const std::uint32_t ring = layout.ring_first_vertex(b), below = layout.ring_first_vertex(b + 1);
         for (std::uint32_t k = 0; k < u; ++k) {
-            const std::uint32_t k1 = (k + 1) % u;
-            const std::uint32_t a = layout.side_vertex(b, k), a1 = layout.side_vertex(b, k1);
-            const std::uint32_t c = layout.side_vertex(b + 1, k), c1 = layout.side_vertex(b + 1, k1);
-            accumulate_face(v, a, c1, c);
-            accumulate_face(v, a, a1, c1);
+            const std::uint32_t k1 = k + 1 == u ? 0 : k + 1;
+            accumulate_face(v, ring + k, below + k1, below + k);
+            accumulate_face(v, ring + k, ring + k1, below + k1);
         }
     }
+    const std::uint32_t top = layout.ring_first_vertex(vmin), bottom = layout.ring_first_vertex(vmax);
     for (std::uint32_t k = 0; k < u; ++k) {
-        const std::uint32_t k1 = (k + 1) % u;
-        accumulate_face(v, layout.top_pole(vmin), layout.side_vertex(vmin, k1), layout.side_vertex(vmin, k));
-        accumulate_face(v, layout.bottom_pole(vmax), layout.side_vertex(vmax, k),
-                        layout.side_vertex(vmax, k1));
+        const std::uint32_t k1 = k + 1 == u ? 0 : k + 1;
+        accumulate_face(v, layout.top_pole(vmin), top + k1, top + k);
+        accumulate_face(v, layout.bottom_pole(vmax), bottom + k, bottom + k1);
     }
 
     for (std::uint32_t i = first; i < last; ++i) {
         float* n = v + std::size_t(i) * 6 + 3;
         const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         if (len > 1e-20f) {
-            n[0] /= len, n[1] /= len, n[2] /= len;
+            const float inv = 1.0f / len;
+            n[0] *= inv, n[1] *= inv, n[2] *= inv;
         } else {
             // Collapsed neighbourhood (zero-area faces, or an inner ring's unused pole): point up so the
             // normal stays unit length; such a vertex covers no visible area.
