@@ -11,9 +11,14 @@ struct Cell {
     std::int64_t x, z;
 };
 
+// In double and clamped, so absurd coordinates or a tiny eps cannot overflow the integer cell.
+std::int64_t cell_coord(float v, float inv_cell) {
+    constexpr double kLimit = 4.0e18;
+    return static_cast<std::int64_t>(std::clamp(std::floor(double(v) * double(inv_cell)), -kLimit, kLimit));
+}
+
 Cell cell_of(float x, float z, float inv_cell) {
-    return {static_cast<std::int64_t>(std::floor(x * inv_cell)),
-            static_cast<std::int64_t>(std::floor(z * inv_cell))};
+    return {cell_coord(x, inv_cell), cell_coord(z, inv_cell)};
 }
 
 std::uint32_t bucket_of(Cell c, std::uint32_t mask) {
@@ -76,10 +81,14 @@ std::uint32_t first_within(BinTableView bins, std::uint32_t b, std::uint32_t lim
     const float* hy = hashes.y.data() + base;
     const float* hz = hashes.z.data() + base;
     const auto mask = static_cast<std::uint32_t>(slots_of(n) - 1);
-    // Cells are 2 eps wide: the eps-disc around q spans at most two cells per axis.
-    const Cell lo = cell_of(q.x - q.eps, q.z - q.eps, inv_cell),
-               hi = cell_of(q.x + q.eps, q.z + q.eps, inv_cell);
-    std::uint32_t buckets[9], count = 0;  // 2x2 cells; 3x3 only if rounding lands exactly on a border
+    // Cells are 2 eps wide: an entry within eps of q lies in q's cell or a neighbour, and the eps-disc
+    // spans at most two cells per axis. Clamping to the neighbours keeps that true when eps is below the
+    // coordinates' float resolution.
+    const Cell c = cell_of(q.x, q.z, inv_cell);
+    Cell lo = cell_of(q.x - q.eps, q.z - q.eps, inv_cell), hi = cell_of(q.x + q.eps, q.z + q.eps, inv_cell);
+    lo = {std::max(lo.x, c.x - 1), std::max(lo.z, c.z - 1)};
+    hi = {std::min(hi.x, c.x + 1), std::min(hi.z, c.z + 1)};
+    std::uint32_t buckets[9], count = 0;
     for (std::int64_t cz = lo.z; cz <= hi.z; ++cz) {
         for (std::int64_t cx = lo.x; cx <= hi.x; ++cx) {
             const std::uint32_t bucket = bucket_of({cx, cz}, mask);

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -76,6 +77,16 @@ TEST(Cli, MeshWritesAMeshAndItsJson) {
     const std::string json1 = rivulet::test::temp_path("mesh1.json");
     ASSERT_EQ(run_cli("mesh " + in + " --radius 0.03 --threads 1 --json " + json1).status, 0);
     EXPECT_EQ(read_json(json1)["mesh_hash"], j["mesh_hash"]);
+}
+
+TEST(Cli, AFailedPictureWriteStopsTheRunWithAMessage) {
+    // A directory where frame 1's picture should go: the encoder cannot open the file.
+    const std::string out = rivulet::test::temp_path("blocked-frames");
+    std::filesystem::create_directories(out + "/frame_00001.png");
+    const Result r = run_cli("run --frames 4 --threads 2 --size 64x36 --warmup 5 --out " + out);
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("frame_00001.png"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("terminate"), std::string::npos) << r.output;
 }
 
 TEST(Cli, BadInputsFailWithAClearMessage) {

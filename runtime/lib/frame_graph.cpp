@@ -35,7 +35,10 @@ FrameGraph::JobId FrameGraph::parallel(std::string name, CountFn count, ItemFn i
 void FrameGraph::execute(JobId j) {
     Job& job = jobs_[j];
     job.items = 0;
-    if (failed_.load(std::memory_order_acquire)) return;  // a job upstream threw: skip the rest of the frame
+    if (failed_.load(std::memory_order_acquire)) {  // a job upstream threw: skip the rest of the frame
+        job.begin_us = job.end_us = 0;
+        return;
+    }
     try {
         run_job(job);
     } catch (...) {

@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 
 #include "systems/render/png_writer.h"
 #include "systems/scan/scan_mesh.h"
@@ -22,16 +24,29 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 // Pictures waiting for their PNG encode: three buffers so the main thread rarely waits for an encoder.
+// An encode that fails (disk full, unwritable path) keeps its error for the main thread, so waiting never
+// throws (the destructor waits too) and the run stops with the message.
 struct FramePipeline::PngRing {
     static constexpr int kBuffers = 3;
     struct Buffer {
         AlignedArray<std::uint8_t> rgba;
         std::string path;
         tbb::task_group encode;
+        std::exception_ptr error;
+
+        // Waits for this buffer's encode; rethrows its failure.
+        void finish() {
+            encode.wait();
+            if (error) std::rethrow_exception(std::exchange(error, nullptr));
+        }
     };
     std::array<Buffer, kBuffers> buffers;
     int width = 0, height = 0;
 
+    void finish_all() {
+        for (auto& b : buffers) b.encode.wait();
+        for (auto& b : buffers) b.finish();
+    }
     ~PngRing() {
         for (auto& b : buffers) b.encode.wait();
     }
@@ -130,15 +145,19 @@ void FramePipeline::render(int slot, int frame_index) {
     renderer_->render(slots_[slot].view(scene_.particle_radius));
     if (!png_) return;
     auto& buf = png_->buffers[static_cast<std::size_t>(frame_index % PngRing::kBuffers)];
-    buf.encode.wait();  // the encode that last used this buffer
+    buf.finish();  // the encode that last used this buffer
     renderer_->read_rgba(buf.rgba.span(std::size_t(png_->width) * png_->height * 4));
     char name[64];
     std::snprintf(name, sizeof name, "/frame_%05d.png", frame_index);
     buf.path.assign(config_.out_dir);
     buf.path.append(name);
     buf.encode.run([&buf, this] {
-        write_png_rgba(buf.path, png_->width, png_->height,
-                       buf.rgba.span(std::size_t(png_->width) * png_->height * 4), config_.png_level);
+        try {
+            write_png_rgba(buf.path, png_->width, png_->height,
+                           buf.rgba.span(std::size_t(png_->width) * png_->height * 4), config_.png_level);
+        } catch (...) {
+            buf.error = std::current_exception();
+        }
     });
 }
 
@@ -171,8 +190,7 @@ void FramePipeline::run(int frames, const std::function<void(int)>& on_frame) {
         slot = next;
         if (on_frame) on_frame(i);
     }
-    if (png_)
-        for (auto& b : png_->buffers) b.encode.wait();
+    if (png_) png_->finish_all();
 }
 
 }  // namespace rivulet
