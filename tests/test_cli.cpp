@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/test_support.h"
+#include "systems/io/mesh_io.h"
 #include "systems/io/particle_io.h"
 
 namespace {
@@ -77,6 +78,28 @@ TEST(Cli, MeshWritesAMeshAndItsJson) {
     const std::string json1 = rivulet::test::temp_path("mesh1.json");
     ASSERT_EQ(run_cli("mesh " + in + " --radius 0.03 --threads 1 --json " + json1).status, 0);
     EXPECT_EQ(read_json(json1)["mesh_hash"], j["mesh_hash"]);
+}
+
+TEST(Cli, MeshRunsOverANumberedSequence) {
+    const std::string dir = rivulet::test::temp_path("sequence");
+    std::filesystem::create_directories(dir);
+    for (int f : {1, 2, 10}) {  // numeric order, not text order
+        std::string text;
+        for (int i = 0; i < 30; ++i)
+            text += std::to_string(0.01 * f) + " " + std::to_string(0.01 * i) + " 0\n";
+        write_text(dir + "/frame_" + std::to_string(f) + ".xyz", text);
+    }
+    const std::string json = dir + "/seq.json";
+    const Result r = run_cli("mesh '" + dir + "/frame_{}.xyz' --radius 0.02 --radial gaussian --out '" + dir +
+                             "/out_{}.ply' --json " + json);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto j = read_json(json);
+    ASSERT_EQ(j["frames"].size(), 3u);
+    EXPECT_NE(j["frames"][2]["input"].get<std::string>().find("frame_10.xyz"), std::string::npos);
+    for (int f : {1, 2, 10}) {
+        const rivulet::MeshData mesh = rivulet::read_mesh(dir + "/out_" + std::to_string(f) + ".ply");
+        EXPECT_EQ(mesh.triangle_count(), j["frames"][0]["triangles"].get<std::size_t>()) << f;
+    }
 }
 
 TEST(Cli, AFailedPictureWriteStopsTheRunWithAMessage) {

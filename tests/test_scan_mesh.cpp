@@ -87,6 +87,25 @@ TEST(ScanMesh, VerticalColumnGivesAClosedTubeOfTheSphereRadiusWithOutwardNormals
     EXPECT_GT(checked, 100);
 }
 
+TEST(ScanMesh, BlendedGaussiansGiveAClosedTubeInsideTheSpheres) {
+    ParticleSet p(200);
+    for (int i = 0; i <= 80; ++i)
+        p.push(0.3f, 0.2f + 0.01f * static_cast<float>(i), -0.1f, 0, 0, 0, static_cast<std::uint32_t>(i));
+    ScanSettings s;
+    s.radius = 0.05f, s.u = 20, s.v = 61, s.v_top = 1.2f, s.v_bottom = 0.0f;
+    s.section.function = RadialFunction::kGaussianBlend;
+    const Extracted e = extract(p, s);
+    ASSERT_EQ(e.groups, 1u);
+    EXPECT_EQ(rivulet::test::count_open_edges(positions_of(e.mesh), e.mesh.indices), 0u);
+    expect_unit_normals(e.mesh);
+    EXPECT_GT(signed_volume(e.mesh, 0, e.mesh.indices.size()), 0.0);
+    for (std::size_t v = 0; v < e.mesh.vertex_count(); ++v) {
+        const float* q = &e.mesh.vertices[6 * v];
+        const float dx = q[0] - 0.3f, dz = q[2] + 0.1f;
+        EXPECT_LE(std::sqrt(dx * dx + dz * dz), 0.05f * 1.0001f) << "beyond the spheres at vertex " << v;
+    }
+}
+
 TEST(ScanMesh, FountainFrameIsClosedWithUnitNormalsAndOutwardCylinders) {
     const SceneDesc scene = make_builtin_scene("fountain");
     StreamSimulation sim(scene);
