@@ -8,6 +8,7 @@
 #include "runtime/lib/frame_pipeline.h"
 #include "runtime/lib/stage_summary.h"
 #include "runtime/lib/thread_control.h"
+#include "runtime/lib/trace_recorder.h"
 
 namespace rivulet::cli {
 namespace {
@@ -20,6 +21,7 @@ struct RunOptions {
     std::string out = "out";
     std::string size = "1280x720";
     std::string json;
+    std::string trace;
     int warmup = -1;
     bool no_pipeline = false;
     bool no_render = false;
@@ -65,6 +67,13 @@ int run(const RunOptions& o) {
     config.out_dir = o.no_render ? "" : o.out;
     parse_size(o.size, config.size.width, config.size.height);
 
+    // Zones per thread: every job and item of every frame could land on one thread (T = 1).
+    std::unique_ptr<TraceRecorder> trace;
+    if (!o.trace.empty()) {
+        trace = std::make_unique<TraceRecorder>(static_cast<std::size_t>(threads.threads()),
+                                                static_cast<std::size_t>(o.frames + 1) * 1024);
+        config.trace = trace.get();
+    }
     FramePipeline pipeline(scene, config);
     if (Renderer* r = pipeline.renderer())
         fmt::print(stderr, "rivulet: scene '{}', {} threads, {} ({})\n", scene.name, threads.threads(),
@@ -84,6 +93,11 @@ int run(const RunOptions& o) {
         last.triangles);
     fmt::print("{}", format_stage_table(summary, config.render));
     if (!config.out_dir.empty()) fmt::print("pictures: {}/frame_*.png\n", config.out_dir);
+    if (trace) {
+        write_chrome_trace(o.trace, *trace);
+        fmt::print("trace: {} (open in Perfetto UI or chrome://tracing){}\n", o.trace,
+                   trace->dropped() ? fmt::format(", {} zones dropped: buffers full", trace->dropped()) : "");
+    }
     if (!o.json.empty()) {
         nlohmann::json j = stage_json(summary);
         j["scene"] = scene.name;
@@ -116,6 +130,8 @@ void add_run_command(CLI::App& app, int& status) {
         ->capture_default_str();
     cmd->add_option("--size", opts->size, "Picture size WxH")->capture_default_str();
     cmd->add_option("--json", opts->json, "Write the timing summary as JSON");
+    cmd->add_option("--trace", opts->trace,
+                    "Write every job's zones as Chrome Trace Event JSON (Perfetto, chrome://tracing)");
     cmd->add_option("--warmup", opts->warmup, "Simulated frames before frame 0 (default: the scene's)")
         ->check(CLI::Range(0, 1000000));
     cmd->add_flag("--no-pipeline", opts->no_pipeline, "Extract frame N+1 only after frame N is rendered");

@@ -1,5 +1,7 @@
 #include "runtime/lib/frame_graph.h"
 
+#include "runtime/lib/trace_recorder.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/flow_graph.h>
 #include <tbb/parallel_for.h>
@@ -48,19 +50,36 @@ void FrameGraph::execute(JobId j) {
     }
 }
 
+void FrameGraph::attach_trace(TraceRecorder* recorder) {
+    if (tbb_) throw std::logic_error("FrameGraph: attach the trace before the first run");
+    trace_ = recorder;
+    if (trace_)
+        for (Job& job : jobs_) job.trace_name = trace_->intern(job.name);
+}
+
 void FrameGraph::run_job(Job& job) {
     using us = std::chrono::duration<double, std::micro>;
     job.begin_us = us(std::chrono::steady_clock::now() - t0_).count();
     if (job.serial) {
+        const std::int64_t t = trace_ ? trace_->now_ns() : 0;
         job.serial();
         job.items = 1;
+        if (trace_) trace_->record(job.trace_name, frame_, -1, t, trace_->now_ns());
     } else {
         const std::size_t n = job.count();
         job.items = n;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
-                          [&job](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i != r.end(); ++i) job.item(i);
-                          });
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, n, 1), [&job, this](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                    if (!trace_) {
+                        job.item(i);
+                        continue;
+                    }
+                    const std::int64_t t = trace_->now_ns();
+                    job.item(i);
+                    trace_->record(job.trace_name, frame_, static_cast<std::int32_t>(i), t, trace_->now_ns());
+                }
+            });
     }
     job.end_us = us(std::chrono::steady_clock::now() - t0_).count();
 }

@@ -16,6 +16,8 @@
 
 namespace rivulet {
 
+class TraceRecorder;
+
 class FrameGraph {
   public:
     using JobId = std::uint32_t;
@@ -42,6 +44,11 @@ class FrameGraph {
         wait();
     }
 
+    // Records a zone per serial job and per item of a parallel job into `recorder` (null: off).
+    void attach_trace(TraceRecorder* recorder);
+    // The frame number the next run's zones carry.
+    void set_frame(std::uint32_t frame) { frame_ = frame; }
+
     std::size_t job_count() const { return jobs_.size(); }
     const std::string& job_name(JobId j) const { return jobs_[j].name; }
     // Last run: job start/end in µs since start(), and items processed.
@@ -61,6 +68,7 @@ class FrameGraph {
         std::vector<JobId> after;
         double begin_us = 0, end_us = 0;
         std::size_t items = 0;
+        std::uint16_t trace_name = 0;
     };
     void execute(JobId j);
     void run_job(Job& job);
@@ -70,6 +78,8 @@ class FrameGraph {
     struct Tbb;
     std::unique_ptr<Tbb> tbb_;
     std::chrono::steady_clock::time_point t0_;
+    TraceRecorder* trace_ = nullptr;
+    std::uint32_t frame_ = 0;
     std::atomic<bool> failed_{false};
     std::mutex error_mutex_;
     std::exception_ptr error_;

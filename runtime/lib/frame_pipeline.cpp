@@ -69,6 +69,11 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
         slot.pool.heights = slot.pool_heights.span(pool.heights.size());
     }
     build_graph();
+    if (config_.trace) {
+        graph_.attach_trace(config_.trace);
+        trace_render_ = config_.trace->intern("render");
+        trace_png_ = config_.trace->intern("png_encode");
+    }
     if (config_.render) {
         renderer_ = std::make_unique<Renderer>(config_.size);
         renderer_->set_scene(scene_);
@@ -119,8 +124,9 @@ void FramePipeline::warmup() {
     for (int i = 0; i < scene_.warmup_frames; ++i) sim_->step_serial(particles_, sim_frame_++);
 }
 
-void FramePipeline::extract(int slot, bool async) {
+void FramePipeline::extract(int slot, std::uint32_t frame_index, bool async) {
     target_slot_ = slot;
+    graph_.set_frame(frame_index);
     graph_.start();
     if (!async) finish_extract(slot);
 }
@@ -151,13 +157,17 @@ void FramePipeline::render(int slot, int frame_index) {
     std::snprintf(name, sizeof name, "/frame_%05d.png", frame_index);
     buf.path.assign(config_.out_dir);
     buf.path.append(name);
-    buf.encode.run([&buf, this] {
+    buf.encode.run([&buf, this, frame_index] {
+        const std::int64_t t = config_.trace ? config_.trace->now_ns() : 0;
         try {
             write_png_rgba(buf.path, png_->width, png_->height,
                            buf.rgba.span(std::size_t(png_->width) * png_->height * 4), config_.png_level);
         } catch (...) {
             buf.error = std::current_exception();
         }
+        if (config_.trace)
+            config_.trace->record(trace_png_, static_cast<std::uint32_t>(frame_index), -1, t,
+                                  config_.trace->now_ns());
     });
 }
 
@@ -166,21 +176,28 @@ void FramePipeline::run(int frames, const std::function<void(int)>& on_frame) {
     const std::size_t base = records_.size();
     records_.reserve(base + static_cast<std::size_t>(frames));
     int slot = 0;
-    extract(slot, false);
+    const auto index = [base](int i) {
+        return static_cast<std::uint32_t>(base + static_cast<std::size_t>(i));
+    };
+    extract(slot, index(0), false);
     auto last_done = std::chrono::steady_clock::now();
     for (int i = 0; i < frames; ++i) {
         FrameRecord rec = pending_;
         const bool more = i + 1 < frames;
         const int next = slot ^ 1;
-        if (more && config_.pipelined) extract(next, true);  // workers fill the other slot meanwhile
+        if (more && config_.pipelined)
+            extract(next, index(i + 1), true);  // workers fill the other slot meanwhile
         const auto r0 = std::chrono::steady_clock::now();
-        render(slot, static_cast<int>(base) + i);
+        const std::int64_t t0 = config_.trace ? config_.trace->now_ns() : 0;
+        render(slot, static_cast<int>(index(i)));
+        if (config_.trace && renderer_)
+            config_.trace->record(trace_render_, index(i), -1, t0, config_.trace->now_ns());
         rec.render_ms = renderer_ ? ms_since(r0) : 0.0;
         if (more) {
             if (config_.pipelined) {
                 finish_extract(next);
             } else {
-                extract(next, false);
+                extract(next, index(i + 1), false);
             }
         }
         const auto now = std::chrono::steady_clock::now();

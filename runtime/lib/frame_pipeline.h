@@ -12,6 +12,7 @@
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/frame_slot.h"
 #include "runtime/lib/scan_jobs.h"
+#include "runtime/lib/trace_recorder.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/renderer.h"
 #include "systems/scan/scan_converter.h"
@@ -28,6 +29,7 @@ struct PipelineConfig {
     std::string out_dir;       // PNG frames go here when not empty
     int png_level = 1;
     RenderSettings size;
+    TraceRecorder* trace = nullptr;  // zones of every job, render and PNG encode when set
 };
 
 inline constexpr std::size_t kMaxFrameJobs = 32;
@@ -69,7 +71,7 @@ class FramePipeline {
 
   private:
     void build_graph();
-    void extract(int slot, bool async);
+    void extract(int slot, std::uint32_t frame_index, bool async);
     void finish_extract(int slot);
     void render(int slot, int frame_index);
 
@@ -88,6 +90,7 @@ class FramePipeline {
     std::unique_ptr<PngRing> png_;
     std::vector<FrameRecord> records_;
     FrameRecord pending_;  // extraction figures of the frame in flight
+    std::uint16_t trace_render_ = 0, trace_png_ = 0;
 };
 
 }  // namespace rivulet
