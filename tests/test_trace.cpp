@@ -2,6 +2,7 @@
 // Event JSON with thread names, frame markers and a flow from each frame's extraction to its render.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 #include "runtime/lib/frame_pipeline.h"
 #include "runtime/lib/thread_control.h"
 #include "runtime/lib/trace_recorder.h"
+#include "runtime/lib/trace_summary.h"
 #include "support/test_support.h"
 
 using namespace rivulet;
@@ -27,7 +29,7 @@ TEST(Trace, RunWritesZonesThreadsFramesAndHandOverFlows) {
     pipeline.warmup();
     pipeline.run(kFrames);
     const std::string path = rivulet::test::temp_path("trace.json");
-    write_chrome_trace(path, recorder);
+    write_chrome_trace(path, recorder, pipeline.graph());
     EXPECT_EQ(recorder.dropped(), 0u);
 
     std::ifstream f(path);
@@ -92,4 +94,76 @@ TEST(Trace, FullBuffersDropZonesInsteadOfGrowing) {
     for (int i = 0; i < 5; ++i) recorder.record(name, 0, i, i, i + 1);
     EXPECT_EQ(recorder.zones().size(), 3u);
     EXPECT_EQ(recorder.dropped(), 2u);
+}
+
+namespace {
+
+nlohmann::json zone(const std::string& name, int frame, int tid, double ts, double dur) {
+    return {{"name", name},
+            {"ph", "X"},
+            {"pid", 1},
+            {"tid", tid},
+            {"ts", ts},
+            {"dur", dur},
+            {"args", {{"frame", frame}}}};
+}
+
+}  // namespace
+
+// A hand-made capture: A -> {B, C} -> D, two frames, a render of frame 0 overlapping frame 1's extraction.
+TEST(TraceSummary, CriticalPathParallelismAndOverlapOfAHandMadeTrace) {
+    nlohmann::json events = nlohmann::json::array();
+    events.push_back({{"name", "thread_name"},
+                      {"ph", "M"},
+                      {"pid", 1},
+                      {"tid", 0},
+                      {"args", {{"name", "main (render)"}}}});
+    events.push_back(
+        {{"name", "thread_name"}, {"ph", "M"}, {"pid", 1}, {"tid", 1}, {"args", {{"name", "worker 1"}}}});
+    // Frame 0: the chain through C (10 + 20 + 5 = 35 µs).
+    for (const auto& z : {zone("A", 0, 0, 0, 10), zone("B", 0, 0, 10, 5), zone("C", 0, 1, 10, 10),
+                          zone("C", 0, 0, 12, 18), zone("D", 0, 0, 30, 5)})
+        events.push_back(z);
+    events.push_back(zone("render", 0, 0, 40, 100));
+    // Frame 1, extracted on the worker during render 0: the chain through B (10 + 25 + 5 = 40 µs).
+    for (const auto& z : {zone("A", 1, 1, 100, 10), zone("B", 1, 1, 110, 25), zone("C", 1, 1, 110, 5),
+                          zone("D", 1, 1, 135, 5)})
+        events.push_back(z);
+    const nlohmann::json jobs = {{{"name", "A"}, {"after", nlohmann::json::array()}},
+                                 {{"name", "B"}, {"after", {"A"}}},
+                                 {{"name", "C"}, {"after", {"A"}}},
+                                 {{"name", "D"}, {"after", {"B", "C"}}}};
+    const TraceSummary s = summarize_trace({{"traceEvents", events}, {"otherData", {{"jobs", jobs}}}});
+
+    EXPECT_EQ(s.frames, 2);
+    // Median of the two frames' paths (35 and 40 µs) is the upper one: A -> B -> D.
+    EXPECT_EQ(s.critical_path, (std::vector<std::string>{"A", "B", "D"}));
+    EXPECT_NEAR(s.critical_path_ms, 0.040, 1e-9);
+    // Busy 48 + 45 + 100 µs over a wall of 140 µs.
+    EXPECT_NEAR(s.busy_ms, 0.193, 1e-9);
+    EXPECT_NEAR(s.wall_ms, 0.140, 1e-9);
+    EXPECT_NEAR(s.parallelism, 193.0 / 140.0, 1e-9);
+    // Render 0 spans [40, 140]; extraction 1 spans [100, 140]: 40 µs, 40 % of the render.
+    EXPECT_NEAR(s.overlap_ms, 0.040, 1e-9);
+    EXPECT_NEAR(s.overlap_share, 0.4, 1e-9);
+    // C has three zones: 10, 18 and 5 µs.
+    const auto c =
+        std::find_if(s.jobs.begin(), s.jobs.end(), [](const JobStats& j) { return j.name == "C"; });
+    ASSERT_NE(c, s.jobs.end());
+    EXPECT_EQ(c->count, 3u);
+    EXPECT_NEAR(c->median_ms, 0.010, 1e-9);
+    EXPECT_NEAR(c->max_ms, 0.018, 1e-9);
+    EXPECT_NEAR(c->total_ms, 0.033, 1e-9);
+    ASSERT_EQ(s.threads.size(), 2u);
+    EXPECT_EQ(s.threads[1].name, "worker 1");
+    EXPECT_NEAR(s.threads[1].busy_ms, (10 + 10 + 25 + 5 + 5) * 1e-3, 1e-9);
+}
+
+TEST(TraceSummary, RejectsFilesThatAreNotCaptures) {
+    EXPECT_THROW(summarize_trace(nlohmann::json{{"foo", 1}}), std::runtime_error);
+    EXPECT_THROW(summarize_trace(nlohmann::json{{"traceEvents", nlohmann::json::array()}}),
+                 std::runtime_error);
+    const std::string path = rivulet::test::temp_path("not-json.json");
+    std::ofstream(path) << "{ not json";
+    EXPECT_THROW(summarize_trace_file(path), std::runtime_error);
 }

@@ -9,6 +9,7 @@
 #include "runtime/lib/stage_summary.h"
 #include "runtime/lib/thread_control.h"
 #include "runtime/lib/trace_recorder.h"
+#include "runtime/lib/trace_summary.h"
 
 namespace rivulet::cli {
 namespace {
@@ -94,7 +95,8 @@ int run(const RunOptions& o) {
     fmt::print("{}", format_stage_table(summary, config.render));
     if (!config.out_dir.empty()) fmt::print("pictures: {}/frame_*.png\n", config.out_dir);
     if (trace) {
-        write_chrome_trace(o.trace, *trace);
+        write_chrome_trace(o.trace, *trace, pipeline.graph());
+        fmt::print("{}", format_trace_summary(summarize_trace_file(o.trace)));
         fmt::print("trace: {} (open in Perfetto UI or chrome://tracing){}\n", o.trace,
                    trace->dropped() ? fmt::format(", {} zones dropped: buffers full", trace->dropped()) : "");
     }

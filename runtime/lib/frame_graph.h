@@ -51,6 +51,7 @@ class FrameGraph {
 
     std::size_t job_count() const { return jobs_.size(); }
     const std::string& job_name(JobId j) const { return jobs_[j].name; }
+    const std::vector<JobId>& job_after(JobId j) const { return jobs_[j].after; }
     // Last run: job start/end in µs since start(), and items processed.
     double job_begin_us(JobId j) const { return jobs_[j].begin_us; }
     double job_end_us(JobId j) const { return jobs_[j].end_us; }

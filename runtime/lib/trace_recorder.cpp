@@ -1,5 +1,7 @@
 #include "runtime/lib/trace_recorder.h"
 
+#include "runtime/lib/frame_graph.h"
+
 #include <tbb/task_arena.h>
 #include <algorithm>
 #include <fstream>
@@ -47,7 +49,7 @@ std::vector<TraceZone> TraceRecorder::zones() const {
     return all;
 }
 
-void write_chrome_trace(const std::string& path, const TraceRecorder& recorder) {
+void write_chrome_trace(const std::string& path, const TraceRecorder& recorder, const FrameGraph& graph) {
     using nlohmann::json;
     json events = json::array();
     constexpr int kPid = 1;
@@ -102,10 +104,17 @@ void write_chrome_trace(const std::string& path, const TraceRecorder& recorder) 
                               {"ts", us(z.begin_ns)}});
         }
     }
+    json jobs = json::array();
+    for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j) {
+        json after = json::array();
+        for (FrameGraph::JobId d : graph.job_after(j)) after.push_back(graph.job_name(d));
+        jobs.push_back({{"name", graph.job_name(j)}, {"after", after}});
+    }
     std::ofstream f(path);
     f << json{{"traceEvents", events},
               {"displayTimeUnit", "ms"},
-              {"otherData", {{"dropped_zones", recorder.dropped()}}}}
+              {"otherData",
+               {{"format", "rivulet-trace-1"}, {"dropped_zones", recorder.dropped()}, {"jobs", jobs}}}}
              .dump();
     if (!f) throw std::runtime_error("cannot write trace " + path);
 }

@@ -49,9 +49,12 @@ class TraceRecorder {
     std::vector<Buffer> buffers_;
 };
 
+class FrameGraph;
+
 // Chrome Trace Event Format (opens in Perfetto UI and chrome://tracing): one "X" event per zone with
 // frame and item in args, thread names, a global instant event per rendered frame, and a flow arrow
-// from each frame's upload_staging (end of its extraction) to its render.
-void write_chrome_trace(const std::string& path, const TraceRecorder& recorder);
+// from each frame's upload_staging (end of its extraction) to its render. The frame graph's jobs and
+// dependencies go into otherData.jobs, for trace summaries.
+void write_chrome_trace(const std::string& path, const TraceRecorder& recorder, const FrameGraph& graph);
 
 }  // namespace rivulet
