@@ -59,15 +59,25 @@ void expect_unit_normals(const TriangleMesh& m) {
     }
 }
 
-}  // namespace
-
-TEST(ScanMesh, VerticalColumnGivesAClosedTubeOfTheSphereRadiusWithOutwardNormals) {
+// A vertical column of 81 spheres of radius 0.05 around the axis x = 0.3, z = -0.1, y in [0.2, 1.0].
+ParticleSet column_of_spheres() {
     ParticleSet p(200);
     for (int i = 0; i <= 80; ++i)
         p.push(0.3f, 0.2f + 0.01f * static_cast<float>(i), -0.1f, 0, 0, 0, static_cast<std::uint32_t>(i));
+    return p;
+}
+
+ScanSettings column_settings(RadialFunction function) {
     ScanSettings s;
     s.radius = 0.05f, s.u = 20, s.v = 61, s.v_top = 1.2f, s.v_bottom = 0.0f;
-    const Extracted e = extract(p, s);
+    s.section.function = function;
+    return s;
+}
+
+}  // namespace
+
+TEST(ScanMesh, VerticalColumnGivesAClosedTubeOfTheSphereRadiusWithOutwardNormals) {
+    const Extracted e = extract(column_of_spheres(), column_settings(RadialFunction::kCircleMaxima));
     ASSERT_EQ(e.groups, 1u);
     EXPECT_EQ(e.out.sphere_count, 0u);
     EXPECT_EQ(rivulet::test::count_open_edges(positions_of(e.mesh), e.mesh.indices), 0u);
@@ -88,13 +98,7 @@ TEST(ScanMesh, VerticalColumnGivesAClosedTubeOfTheSphereRadiusWithOutwardNormals
 }
 
 TEST(ScanMesh, BlendedGaussiansGiveAClosedTubeInsideTheSpheres) {
-    ParticleSet p(200);
-    for (int i = 0; i <= 80; ++i)
-        p.push(0.3f, 0.2f + 0.01f * static_cast<float>(i), -0.1f, 0, 0, 0, static_cast<std::uint32_t>(i));
-    ScanSettings s;
-    s.radius = 0.05f, s.u = 20, s.v = 61, s.v_top = 1.2f, s.v_bottom = 0.0f;
-    s.section.function = RadialFunction::kGaussianBlend;
-    const Extracted e = extract(p, s);
+    const Extracted e = extract(column_of_spheres(), column_settings(RadialFunction::kGaussianBlend));
     ASSERT_EQ(e.groups, 1u);
     EXPECT_EQ(rivulet::test::count_open_edges(positions_of(e.mesh), e.mesh.indices), 0u);
     expect_unit_normals(e.mesh);

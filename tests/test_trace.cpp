@@ -29,7 +29,7 @@ TEST(Trace, RunWritesZonesThreadsFramesAndHandOverFlows) {
     pipeline.warmup();
     pipeline.run(kFrames);
     const std::string path = rivulet::test::temp_path("trace.json");
-    write_chrome_trace(path, recorder, pipeline.graph());
+    write_chrome_trace(path, chrome_trace(recorder, pipeline.graph()));
     EXPECT_EQ(recorder.dropped(), 0u);
 
     std::ifstream f(path);

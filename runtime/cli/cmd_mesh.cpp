@@ -99,9 +99,7 @@ int run(const MeshOptions& o) {
         nlohmann::json doc = sequence ? nlohmann::json{{"frames", per_frame}} : per_frame[0];
         doc["threads"] = threads.threads();
         doc["method"] = "scan";
-        std::ofstream f(o.json);
-        f << doc.dump(2) << "\n";
-        if (!f) throw std::runtime_error(fmt::format("cannot write {}", o.json));
+        write_json_file(o.json, doc);
     }
     return 0;
 }

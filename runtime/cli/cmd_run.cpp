@@ -95,8 +95,9 @@ int run(const RunOptions& o) {
     fmt::print("{}", format_stage_table(summary, config.render));
     if (!config.out_dir.empty()) fmt::print("pictures: {}/frame_*.png\n", config.out_dir);
     if (trace) {
-        write_chrome_trace(o.trace, *trace, pipeline.graph());
-        fmt::print("{}", format_trace_summary(summarize_trace_file(o.trace)));
+        const nlohmann::json capture = chrome_trace(*trace, pipeline.graph());
+        write_chrome_trace(o.trace, capture);
+        fmt::print("{}", format_trace_summary(summarize_trace(capture)));
         fmt::print("trace: {} (open in Perfetto UI or chrome://tracing){}\n", o.trace,
                    trace->dropped() ? fmt::format(", {} zones dropped: buffers full", trace->dropped()) : "");
     }
@@ -109,9 +110,7 @@ int run(const RunOptions& o) {
         j["particles"] = last.particles;
         j["groups"] = last.groups;
         j["triangles"] = last.triangles;
-        std::ofstream f(o.json);
-        f << j.dump(2) << "\n";
-        if (!f) throw std::runtime_error(fmt::format("cannot write {}", o.json));
+        write_json_file(o.json, j);
     }
     return 0;
 }

@@ -2,6 +2,8 @@
 // Each subcommand of `rivulet` registers itself on the CLI11 app; the callback runs the command and
 // leaves its exit status in `status`.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
 
 #include "systems/scan/scan_settings.h"
 
@@ -19,6 +21,9 @@ struct ScanOptions {
     // Applies --radial; throws std::invalid_argument on a bad value.
     ScanSettings resolve() const;
 };
+
+// Writes `doc` pretty-printed to `path`; throws std::runtime_error when the file cannot be written.
+void write_json_file(const std::string& path, const nlohmann::json& doc);
 
 // Parses "WxH" (e.g. 1280x720); throws std::invalid_argument with a clear message.
 void parse_size(const std::string& text, int& width, int& height);

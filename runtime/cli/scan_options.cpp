@@ -1,6 +1,8 @@
 #include <fmt/format.h>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "cli/commands.h"
@@ -51,6 +53,12 @@ ScanSettings ScanOptions::resolve() const {
         throw std::invalid_argument(fmt::format("--radial must be 'maxima' or 'gaussian', got '{}'", radial));
     }
     return s;
+}
+
+void write_json_file(const std::string& path, const nlohmann::json& doc) {
+    std::ofstream f(path);
+    f << doc.dump(2) << "\n";
+    if (!f) throw std::runtime_error(fmt::format("cannot write {}", path));
 }
 
 void parse_size(const std::string& text, int& width, int& height) {

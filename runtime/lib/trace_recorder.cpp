@@ -49,7 +49,7 @@ std::vector<TraceZone> TraceRecorder::zones() const {
     return all;
 }
 
-void write_chrome_trace(const std::string& path, const TraceRecorder& recorder, const FrameGraph& graph) {
+nlohmann::json chrome_trace(const TraceRecorder& recorder, const FrameGraph& graph) {
     using nlohmann::json;
     json events = json::array();
     constexpr int kPid = 1;
@@ -110,12 +110,15 @@ void write_chrome_trace(const std::string& path, const TraceRecorder& recorder, 
         for (FrameGraph::JobId d : graph.job_after(j)) after.push_back(graph.job_name(d));
         jobs.push_back({{"name", graph.job_name(j)}, {"after", after}});
     }
+    return json{{"traceEvents", events},
+                {"displayTimeUnit", "ms"},
+                {"otherData",
+                 {{"format", "rivulet-trace-1"}, {"dropped_zones", recorder.dropped()}, {"jobs", jobs}}}};
+}
+
+void write_chrome_trace(const std::string& path, const nlohmann::json& trace) {
     std::ofstream f(path);
-    f << json{{"traceEvents", events},
-              {"displayTimeUnit", "ms"},
-              {"otherData",
-               {{"format", "rivulet-trace-1"}, {"dropped_zones", recorder.dropped()}, {"jobs", jobs}}}}
-             .dump();
+    f << trace.dump();
     if (!f) throw std::runtime_error("cannot write trace " + path);
 }
 

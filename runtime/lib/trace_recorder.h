@@ -5,6 +5,7 @@
 // further zones and counts them; it never grows during a run.
 #include <chrono>
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,7 @@ class FrameGraph;
 // frame and item in args, thread names, a global instant event per rendered frame, and a flow arrow
 // from each frame's upload_staging (end of its extraction) to its render. The frame graph's jobs and
 // dependencies go into otherData.jobs, for trace summaries.
-void write_chrome_trace(const std::string& path, const TraceRecorder& recorder, const FrameGraph& graph);
+nlohmann::json chrome_trace(const TraceRecorder& recorder, const FrameGraph& graph);
+void write_chrome_trace(const std::string& path, const nlohmann::json& trace);
 
 }  // namespace rivulet
