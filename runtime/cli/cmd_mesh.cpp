@@ -43,14 +43,8 @@ nlohmann::json mesh_json(const MeshResult& r) {
 }
 
 int run(const MeshOptions& o) {
-    if (o.method != "scan")
-        throw std::invalid_argument(fmt::format(
-            "--method '{}' is not available: this build implements 'scan' (sphere scan conversion)",
-            o.method));
     if (o.repeat < 1 || o.repeat > 100000)
         throw std::invalid_argument(fmt::format("--repeat must be in [1, 100000], got {}", o.repeat));
-    if (o.threads < 0 || o.threads > 1024)
-        throw std::invalid_argument(fmt::format("--threads must be in [0, 1024], got {}", o.threads));
     if (o.radius < 0 || !std::isfinite(o.radius))
         throw std::invalid_argument(fmt::format("--radius must be positive, got {}", o.radius));
     MeshRequest req;
@@ -112,11 +106,10 @@ void add_mesh_command(CLI::App& app, int& status) {
         "mesh", "Extract a triangle mesh from particle files (.ply, .xyz, .vtk, or a {} pattern)");
     cmd->add_option("input", opts->input, "Particle file, or a sequence pattern such as frames/frame_{}.ply")
         ->required();
-    cmd->add_option("--method", opts->method, "Surface method: scan (sphere scan conversion)")
-        ->capture_default_str();
+    add_method_option(*cmd, opts->method);
     cmd->add_option("--radius", opts->radius,
                     "Particle radius in world units (default: half the median neighbour distance)");
-    cmd->add_option("--threads", opts->threads, "Threads (0 = all)")->capture_default_str();
+    add_threads_option(*cmd, opts->threads, "Threads (0 = all)");
     cmd->add_option("--repeat", opts->repeat, "Extractions to time; total_ms is their median")
         ->capture_default_str();
     cmd->add_option("--out", opts->out,

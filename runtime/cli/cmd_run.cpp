@@ -49,14 +49,8 @@ StageSummary summarize(const FramePipeline& p) {
 }
 
 int run(const RunOptions& o) {
-    if (o.method != "scan")
-        throw std::invalid_argument(fmt::format(
-            "--method '{}' is not available: this build implements 'scan' (sphere scan conversion)",
-            o.method));
     if (o.frames < 1 || o.frames > 1000000)
         throw std::invalid_argument(fmt::format("--frames must be in [1, 1000000], got {}", o.frames));
-    if (o.threads < 0 || o.threads > 1024)
-        throw std::invalid_argument(fmt::format("--threads must be in [0, 1024], got {}", o.threads));
     SceneDesc scene = make_builtin_scene(o.scene);
     if (o.warmup >= 0) scene.warmup_frames = o.warmup;
 
@@ -122,11 +116,9 @@ void add_run_command(CLI::App& app, int& status) {
     CLI::App* cmd =
         app.add_subcommand("run", "Simulate a scene, extract its surface and render it, frame after frame");
     cmd->add_option("--scene", opts->scene, "Built-in scene: fountain, faucet, hose")->capture_default_str();
-    cmd->add_option("--method", opts->method, "Surface method: scan (sphere scan conversion)")
-        ->capture_default_str();
+    add_method_option(*cmd, opts->method);
     cmd->add_option("--frames", opts->frames, "Frames to render")->capture_default_str();
-    cmd->add_option("--threads", opts->threads, "Threads for TBB and llvmpipe together (0 = all)")
-        ->capture_default_str();
+    add_threads_option(*cmd, opts->threads, "Threads for TBB and llvmpipe together (0 = all)");
     cmd->add_option("--out", opts->out, "Directory for PNG frames (empty: no pictures)")
         ->capture_default_str();
     cmd->add_option("--size", opts->size, "Picture size WxH")->capture_default_str();

@@ -22,6 +22,11 @@ struct ScanOptions {
     ScanSettings resolve() const;
 };
 
+// The options every extracting command shares, each with its check: --method (only 'scan' is built) and
+// --threads (0 = all hardware threads, at most 1024).
+void add_method_option(CLI::App& cmd, std::string& method);
+void add_threads_option(CLI::App& cmd, int& threads, const std::string& help);
+
 // Writes `doc` pretty-printed to `path`; throws std::runtime_error when the file cannot be written.
 void write_json_file(const std::string& path, const nlohmann::json& doc);
 

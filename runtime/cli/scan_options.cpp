@@ -55,6 +55,22 @@ ScanSettings ScanOptions::resolve() const {
     return s;
 }
 
+void add_method_option(CLI::App& cmd, std::string& method) {
+    cmd.add_option("--method", method, "Surface method: scan (sphere scan conversion)")
+        ->capture_default_str()
+        ->check(CLI::Validator(
+            [](std::string& m) -> std::string {
+                if (m == "scan") return {};
+                return fmt::format(
+                    "'{}' is not available: this build implements 'scan' (sphere scan conversion)", m);
+            },
+            "METHOD"));
+}
+
+void add_threads_option(CLI::App& cmd, int& threads, const std::string& help) {
+    cmd.add_option("--threads", threads, help)->capture_default_str()->check(CLI::Range(0, 1024));
+}
+
 void write_json_file(const std::string& path, const nlohmann::json& doc) {
     std::ofstream f(path);
     f << doc.dump(2) << "\n";
