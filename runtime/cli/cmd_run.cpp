@@ -1,15 +1,18 @@
 // rivulet run: simulate a scene, extract its surface and render it, frame after frame, pipelined.
 #include <fmt/format.h>
 #include <fstream>
+#include <span>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/progress_bar.h"
 #include "runtime/lib/frame_pipeline.h"
+#include "runtime/lib/recording.h"
 #include "runtime/lib/stage_summary.h"
 #include "runtime/lib/thread_control.h"
 #include "runtime/lib/trace_recorder.h"
 #include "runtime/lib/trace_summary.h"
+#include "systems/scenes/scene_json.h"
 
 namespace rivulet::cli {
 namespace {
@@ -23,15 +26,20 @@ struct RunOptions {
     std::string size = "1280x720";
     std::string json;
     std::string trace;
+    std::string record;
     int warmup = -1;
+    int timing_warmup = 0;
     bool no_pipeline = false;
     bool no_render = false;
     ScanOptions scan;
 };
 
-StageSummary summarize(const FramePipeline& p) {
+// Medians over the frames after the first `skip` (caches, allocator and llvmpipe settling).
+StageSummary summarize(const FramePipeline& p, int skip) {
     StageSummary s;
-    const auto& recs = p.records();
+    const auto& all = p.records();
+    const std::span<const FrameRecord> recs =
+        std::span(all).subspan(std::min(all.size(), static_cast<std::size_t>(skip)));
     s.frames = static_cast<int>(recs.size());
     auto column = [&](auto get) {
         std::vector<double> v;
@@ -51,7 +59,10 @@ StageSummary summarize(const FramePipeline& p) {
 int run(const RunOptions& o) {
     if (o.frames < 1 || o.frames > 1000000)
         throw std::invalid_argument(fmt::format("--frames must be in [1, 1000000], got {}", o.frames));
-    SceneDesc scene = make_builtin_scene(o.scene);
+    if (o.timing_warmup >= o.frames)
+        throw std::invalid_argument(
+            fmt::format("--timing-warmup ({}) must be less than --frames ({})", o.timing_warmup, o.frames));
+    SceneDesc scene = resolve_scene(o.scene);
     if (o.warmup >= 0) scene.warmup_frames = o.warmup;
 
     ThreadControl threads(o.threads);
@@ -61,6 +72,18 @@ int run(const RunOptions& o) {
     config.pipelined = !o.no_pipeline;
     config.out_dir = o.no_render ? "" : o.out;
     parse_size(o.size, config.size.width, config.size.height);
+
+    // A recording logs the inputs of every simulated frame, warm-up included, as they are handed out.
+    std::vector<FrameInputs> inputs_log;
+    if (!o.record.empty()) {
+        config.hash_frames = true;
+        inputs_log.resize(static_cast<std::size_t>(scene.warmup_frames) + static_cast<std::size_t>(o.frames));
+        config.inputs = [&inputs_log, &scene](std::uint64_t f) {
+            const FrameInputs in = scripted_inputs(scene, f);
+            if (f < inputs_log.size()) inputs_log[f] = in;
+            return in;
+        };
+    }
 
     // Zones per thread: every job and item of every frame could land on one thread (T = 1).
     std::unique_ptr<TraceRecorder> trace;
@@ -78,7 +101,7 @@ int run(const RunOptions& o) {
     ProgressBar bar("frames", o.frames);
     pipeline.run(o.frames, [&bar](int i) { bar.update(i + 1); });
 
-    const StageSummary summary = summarize(pipeline);
+    const StageSummary summary = summarize(pipeline, o.timing_warmup);
     const auto& recs = pipeline.records();
     const FrameRecord& last = recs.back();
     fmt::print(
@@ -94,6 +117,10 @@ int run(const RunOptions& o) {
         fmt::print("{}", format_trace_summary(summarize_trace(capture)));
         fmt::print("trace: {} (open in Perfetto UI or chrome://tracing){}\n", o.trace,
                    trace->dropped() ? fmt::format(", {} zones dropped: buffers full", trace->dropped()) : "");
+    }
+    if (!o.record.empty()) {
+        write_recording(o.record, make_recording(pipeline, config.scan, inputs_log));
+        fmt::print("recording: {} ({} frames; replay with: rivulet replay {})\n", o.record, recs.size(), o.record);
     }
     if (!o.json.empty()) {
         nlohmann::json j = stage_json(summary);
@@ -115,7 +142,8 @@ void add_run_command(CLI::App& app, int& status) {
     auto opts = std::make_shared<RunOptions>();
     CLI::App* cmd =
         app.add_subcommand("run", "Simulate a scene, extract its surface and render it, frame after frame");
-    cmd->add_option("--scene", opts->scene, "Built-in scene: fountain, faucet, hose")->capture_default_str();
+    cmd->add_option("--scene", opts->scene, "Built-in scene (fountain, faucet, hose) or a scene file FILE.json")
+        ->capture_default_str();
     add_method_option(*cmd, opts->method);
     cmd->add_option("--frames", opts->frames, "Frames to render")->capture_default_str();
     add_threads_option(*cmd, opts->threads, "Threads for TBB and llvmpipe together (0 = all)");
@@ -125,7 +153,12 @@ void add_run_command(CLI::App& app, int& status) {
     cmd->add_option("--json", opts->json, "Write the timing summary as JSON");
     cmd->add_option("--trace", opts->trace,
                     "Write every job's zones as Chrome Trace Event JSON (Perfetto, chrome://tracing)");
+    cmd->add_option("--record", opts->record,
+                    "Write a recording (scene, settings, per-frame inputs and hashes) for rivulet replay");
     cmd->add_option("--warmup", opts->warmup, "Simulated frames before frame 0 (default: the scene's)")
+        ->check(CLI::Range(0, 1000000));
+    cmd->add_option("--timing-warmup", opts->timing_warmup,
+                    "Frames rendered first and left out of the medians (benchmarks)")
         ->check(CLI::Range(0, 1000000));
     cmd->add_flag("--no-pipeline", opts->no_pipeline, "Extract frame N+1 only after frame N is rendered");
     cmd->add_flag("--no-render", opts->no_render, "Simulate and extract only (no GL, no pictures)");

@@ -12,6 +12,9 @@ namespace rivulet::cli {
 void add_run_command(CLI::App& app, int& status);
 void add_mesh_command(CLI::App& app, int& status);
 void add_trace_summary_command(CLI::App& app, int& status);
+void add_replay_command(CLI::App& app, int& status);
+void add_simulate_command(CLI::App& app, int& status);
+void add_bench_command(CLI::App& app, int& status);
 
 // Options of sphere scan conversion shared by `run` and `mesh` (--u, --v, --epsilon, ...).
 struct ScanOptions {

@@ -13,7 +13,10 @@ int main(int argc, char** argv) {
     int status = 0;
     rivulet::cli::add_run_command(app, status);
     rivulet::cli::add_mesh_command(app, status);
+    rivulet::cli::add_simulate_command(app, status);
+    rivulet::cli::add_replay_command(app, status);
     rivulet::cli::add_trace_summary_command(app, status);
+    rivulet::cli::add_bench_command(app, status);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -9,13 +9,12 @@
 #include <stdexcept>
 #include <utility>
 
+#include "systems/particles/particle_hash.h"
 #include "systems/render/png_writer.h"
 #include "systems/scan/scan_mesh.h"
 
 namespace rivulet {
 namespace {
-
-constexpr std::size_t kSimChunk = 4096;
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -54,8 +53,7 @@ struct FramePipeline::PngRing {
 
 FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& config)
     : scene_(scene), config_(config) {
-    sim_ = std::make_unique<StreamSimulation>(scene_);
-    particles_.reserve(scene_.max_particles);
+    sim_ = std::make_unique<SceneSimulation>(scene_, config_.inputs);
     ScanSettings s = config_.scan;
     s.radius = scene_.particle_radius;
     s.v_top = scene_.v_max;
@@ -93,17 +91,9 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
 FramePipeline::~FramePipeline() = default;
 
 void FramePipeline::build_graph() {
-    const auto begin = graph_.serial("simulate.begin", [this] { sim_->begin_frame(particles_, sim_frame_); });
-    const auto integrate = graph_.parallel(
-        "simulate.integrate", [this] { return (particles_.size() + kSimChunk - 1) / kSimChunk; },
-        [this](std::size_t c) {
-            const std::size_t b = c * kSimChunk;
-            sim_->integrate(particles_, b, std::min(particles_.size(), b + kSimChunk));
-        },
-        {begin});
-    sim_end_ = graph_.serial("simulate.end", [this] { sim_->end_frame(particles_); }, {integrate});
+    sim_end_ = sim_->add_jobs(graph_);
     const ScanJobIds scan = add_scan_jobs(
-        graph_, *scan_, [this] { return particles_.positions(); },
+        graph_, *scan_, [this] { return sim_->particles().positions(); },
         [this]() -> ScanOutput& { return slots_[target_slot_].scan; }, {sim_end_});
     // Hand-over data of the slot: pool heights copied (the simulation moves on), counters, hash.
     graph_.serial("upload_staging",
@@ -111,9 +101,11 @@ void FramePipeline::build_graph() {
                       FrameSlot& slot = slots_[target_slot_];
                       const HeightFieldView pool = sim_->pool_view();
                       std::copy(pool.heights.begin(), pool.heights.end(), slot.pool_heights.data());
-                      slot.particles = static_cast<std::uint32_t>(particles_.size());
-                      slot.frame = sim_frame_;
+                      slot.particles = static_cast<std::uint32_t>(sim_->particles().size());
+                      slot.frame = sim_->last_frame();
+                      slot.inputs = sim_->last_inputs();
                       slot.hash = config_.hash_frames ? frame_output_hash(slot.scan, scan_->layout()) : 0;
+                      slot.particle_hash = config_.hash_frames ? particle_hash(sim_->particles()) : 0;
                   },
                   {scan.stage});
     if (graph_.job_count() > kMaxFrameJobs)
@@ -121,7 +113,7 @@ void FramePipeline::build_graph() {
 }
 
 void FramePipeline::warmup() {
-    for (int i = 0; i < scene_.warmup_frames; ++i) sim_->step_serial(particles_, sim_frame_++);
+    sim_->step_serial(scene_.warmup_frames);
 }
 
 void FramePipeline::extract(int slot, std::uint32_t frame_index, bool async) {
@@ -133,7 +125,6 @@ void FramePipeline::extract(int slot, std::uint32_t frame_index, bool async) {
 
 void FramePipeline::finish_extract(int slot) {
     graph_.wait();
-    ++sim_frame_;
     const FrameSlot& s = slots_[slot];
     pending_ = {};
     pending_.frame = s.frame;
@@ -142,6 +133,8 @@ void FramePipeline::finish_extract(int slot) {
     pending_.isolated = s.scan.sphere_count;
     pending_.triangles = s.scan.triangles;
     pending_.hash = s.hash;
+    pending_.particle_hash = s.particle_hash;
+    pending_.inputs = s.inputs;
     pending_.extract_ms = graph_.last_run_ms();
     for (FrameGraph::JobId j = 0; j < graph_.job_count(); ++j) pending_.job_ms[j] = graph_.job_ms(j);
 }

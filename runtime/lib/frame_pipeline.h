@@ -17,7 +17,7 @@
 #include "systems/render/renderer.h"
 #include "systems/scan/scan_converter.h"
 #include "systems/scenes/scene.h"
-#include "systems/sim/stream_sim.h"
+#include "runtime/lib/scene_simulation.h"
 
 namespace rivulet {
 
@@ -30,6 +30,9 @@ struct PipelineConfig {
     int png_level = 1;
     RenderSettings size;
     TraceRecorder* trace = nullptr;  // zones of every job, render and PNG encode when set
+    // Outside inputs of each simulated frame (warm-up included); empty: the scene's scripted inputs.
+    // Replay feeds recorded inputs here. Called on a worker; must not allocate.
+    std::function<FrameInputs(std::uint64_t sim_frame)> inputs;
 };
 
 inline constexpr std::size_t kMaxFrameJobs = 32;
@@ -38,7 +41,9 @@ struct FrameRecord {
     std::uint64_t frame = 0;
     std::uint32_t particles = 0, groups = 0, isolated = 0;
     std::uint64_t triangles = 0;
-    std::uint64_t hash = 0;
+    std::uint64_t hash = 0;           // the surface's buffers (when config.hash_frames)
+    std::uint64_t particle_hash = 0;  // the particle arrays the surface was extracted from (idem)
+    FrameInputs inputs;
     double extract_ms = 0;  // frame graph wall time (simulation + extraction)
     double render_ms = 0;   // main thread: upload + draw + read-back (0 when not rendering)
     double frame_ms = 0;    // wall time between consecutive frames leaving the loop
@@ -63,11 +68,11 @@ class FramePipeline {
     const std::vector<FrameRecord>& records() const { return records_; }
     const FrameGraph& graph() const { return graph_; }
     const ScanConverter& scan() const { return *scan_; }
-    const ParticleSet& particles() const { return particles_; }
+    const ParticleSet& particles() const { return sim_->particles(); }
     const FrameSlot& slot(int i) const { return slots_[i]; }
     Renderer* renderer() { return renderer_.get(); }
     const SceneDesc& scene() const { return scene_; }
-    std::uint64_t next_sim_frame() const { return sim_frame_; }
+    std::uint64_t next_sim_frame() const { return sim_->next_frame(); }
 
   private:
     void build_graph();
@@ -77,12 +82,10 @@ class FramePipeline {
 
     SceneDesc scene_;
     PipelineConfig config_;
-    ParticleSet particles_;
-    std::unique_ptr<StreamSimulation> sim_;
+    std::unique_ptr<SceneSimulation> sim_;
     std::unique_ptr<ScanConverter> scan_;
     std::array<FrameSlot, 2> slots_;
     int target_slot_ = 0;
-    std::uint64_t sim_frame_ = 0;
     FrameGraph graph_;
     FrameGraph::JobId sim_end_ = 0;
     std::unique_ptr<Renderer> renderer_;

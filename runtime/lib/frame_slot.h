@@ -6,6 +6,7 @@
 
 #include "systems/particles/aligned_array.h"
 #include "systems/render/frame_view.h"
+#include "systems/scenes/frame_inputs.h"
 #include "systems/scan/scan_output.h"
 
 namespace rivulet {
@@ -16,7 +17,9 @@ struct FrameSlot {
     ScanOutput scan;
     AlignedArray<float> pool_heights;
     HeightFieldView pool;
-    std::uint64_t hash = 0;  // frame_output_hash, when hashing is on
+    std::uint64_t hash = 0;           // frame_output_hash, when hashing is on
+    std::uint64_t particle_hash = 0;  // idem, of the particle arrays
+    FrameInputs inputs;
 
     FrameView view(float sphere_radius) const {
         FrameView v;

@@ -52,6 +52,12 @@ struct CameraDesc {
     float fov_y_deg = 45;
 };
 
+// The fluid container swinging on its own (a slosh scene): offset = amplitude * sin(2 pi frequency t).
+struct ContainerMotion {
+    Vec3f amplitude;
+    float frequency = 0;  // Hz; 0 = still
+};
+
 struct SceneDesc {
     std::string name;
     float particle_radius = 0.02f;  // world units
@@ -71,6 +77,7 @@ struct SceneDesc {
     PoolDesc pool;
     float v_min = 0, v_max = 3;  // extent of the cylinders along +y (scan conversion domain)
     CameraDesc camera;
+    ContainerMotion container_motion;
 };
 
 std::span<const std::string_view> builtin_scene_names();

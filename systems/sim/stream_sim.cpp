@@ -122,7 +122,8 @@ void StreamSimulation::begin_frame(ParticleSet& particles, std::uint64_t frame) 
     for (std::size_t k = 0; k < scene_.emitters.size(); ++k) {
         const Emitter& e = scene_.emitters[k];
         const EmitterFrame& f = frames_[k];
-        const double owed = carry_[k] + double(e.rate) * scene_.dt;
+        const double rate = double(e.rate) * double(emitter_scale_);
+        const double owed = carry_[k] + rate * scene_.dt;
         const double whole = std::floor(owed);
         const double carried = carry_[k];
         carry_[k] = owed - whole;
@@ -143,7 +144,7 @@ void StreamSimulation::begin_frame(ParticleSet& particles, std::uint64_t frame) 
             const Vec3f v0 = dir * e.speed;
             // Emission is continuous: the j-th particle of this frame left the nozzle when the emitter's
             // running count crossed its number, so streams come out evenly spaced rather than in clumps.
-            const float age = static_cast<float>(scene_.dt - (double(j) + 1.0 - carried) / e.rate);
+            const float age = static_cast<float>(scene_.dt - (double(j) + 1.0 - carried) / rate);
             const Vec3f p = p0 + v0 * age + scene_.gravity * (0.5f * age * age);
             const Vec3f v = v0 + scene_.gravity * age;
             birth_[particles.size()] = tick_;
@@ -182,6 +183,12 @@ void StreamSimulation::step_serial(ParticleSet& particles, std::uint64_t frame) 
     begin_frame(particles, frame);
     integrate(particles, 0, particles.size());
     end_frame(particles);
+}
+
+void StreamSimulation::set_inputs(const FrameInputs& inputs) {
+    if (!std::isfinite(inputs.emitter_scale) || inputs.emitter_scale < 0 || inputs.emitter_scale > 1e3f)
+        throw std::invalid_argument("StreamSimulation: emitter_scale must be in [0, 1000]");
+    emitter_scale_ = inputs.emitter_scale;
 }
 
 HeightFieldView StreamSimulation::pool_view() const {

@@ -15,6 +15,7 @@
 #include "systems/particles/aligned_array.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/frame_view.h"
+#include "systems/scenes/frame_inputs.h"
 #include "systems/scenes/scene.h"
 
 namespace rivulet {
@@ -37,6 +38,9 @@ class StreamSimulation {
 
     // Runs begin/integrate/end serially: for warm-up, tests and tools.
     void step_serial(ParticleSet& particles, std::uint64_t frame);
+
+    // This frame's outside inputs (emitter_scale multiplies every emitter's rate); set before begin_frame.
+    void set_inputs(const FrameInputs& inputs);
 
     HeightFieldView pool_view() const;
     const SceneDesc& scene() const { return scene_; }
@@ -62,6 +66,7 @@ class StreamSimulation {
     AlignedArray<float> hit_x_, hit_z_, hit_momentum_;
     std::unique_ptr<HeightFieldPool> pool_;  // null when the scene has no pool
     BallisticParams params_;
+    float emitter_scale_ = 1;
 };
 
 }  // namespace rivulet

@@ -1,0 +1,147 @@
+#include "runtime/lib/recording.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "jobs/mesh_hash.h"
+#include "systems/scan/scan_settings_json.h"
+#include "systems/scenes/scene_json.h"
+
+namespace rivulet {
+namespace {
+
+using nlohmann::json;
+
+constexpr std::size_t kMaxFrames = 10'000'000;
+
+std::string checksum_of(const json& body) {
+    const std::string text = body.dump();
+    return hash_hex(hash_bytes(text.data(), text.size()));
+}
+
+std::uint64_t parse_hash(const json& j, const std::string& where) {
+    if (!j.is_string() || j.get<std::string>().size() != 16)
+        throw RecordingError(where + ": expected 16 hex digits");
+    const std::string s = j.get<std::string>();
+    char* end = nullptr;
+    const std::uint64_t v = std::strtoull(s.c_str(), &end, 16);
+    if (end != s.c_str() + s.size()) throw RecordingError(where + ": expected 16 hex digits");
+    return v;
+}
+
+float parse_float(const json& j, const std::string& where) {
+    if (!j.is_number() || !std::isfinite(j.get<double>())) throw RecordingError(where + ": expected a number");
+    return j.get<float>();
+}
+
+}  // namespace
+
+void write_recording(const std::string& path, const Recording& r) {
+    json doc;
+    doc["format"] = kRecordingFormat;
+    doc["version"] = kRecordingVersion;
+    doc["scene"] = scene_to_json(r.scene);
+    doc["method"] = r.method;
+    doc["settings"] = scan_settings_to_json(r.scan);
+    json inputs = json::array();
+    for (const FrameInputs& in : r.inputs)
+        inputs.push_back({in.container_offset.x, in.container_offset.y, in.container_offset.z, in.emitter_scale});
+    doc["inputs"] = std::move(inputs);
+    json frames = json::array();
+    for (const RecordedFrame& f : r.frames) frames.push_back({hash_hex(f.particles), hash_hex(f.surface)});
+    doc["frames"] = std::move(frames);
+    doc["checksum"] = checksum_of(doc);
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << doc.dump(1) << '\n';
+    out.close();
+    if (!out) throw RecordingError("cannot write recording '" + path + "'");
+}
+
+Recording read_recording(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw RecordingError("cannot open recording '" + path + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string where = "recording '" + path + "'";
+    json doc = json::parse(text.str(), nullptr, false);
+    if (doc.is_discarded() || !doc.is_object())
+        throw RecordingError(where + " is not a Rivulet recording, or is truncated (not one valid JSON object)");
+    if (doc.value("format", json()) != kRecordingFormat)
+        throw RecordingError(where + " is not a Rivulet recording (format is not \"" +
+                             std::string(kRecordingFormat) + "\")");
+    const json version = doc.value("version", json());
+    if (version != kRecordingVersion)
+        throw RecordingError(where + " has version " + version.dump() + "; this build reads version " +
+                             std::to_string(kRecordingVersion));
+    const auto sum = doc.find("checksum");
+    if (sum == doc.end() || !sum->is_string()) throw RecordingError(where + " has no checksum");
+    const std::string expected = sum->get<std::string>();
+    doc.erase("checksum");
+    if (checksum_of(doc) != expected)
+        throw RecordingError(where + " is damaged: its checksum does not match its content");
+
+    Recording r;
+    try {
+        r.scene = scene_from_json(doc.at("scene"), where + ": scene");
+        r.method = doc.at("method").get<std::string>();
+        if (r.method != "scan") throw RecordingError(where + ": unknown method '" + r.method + "'");
+        r.scan = scan_settings_from_json(doc.at("settings"), where + ": settings");
+        const json& inputs = doc.at("inputs");
+        const json& frames = doc.at("frames");
+        if (!inputs.is_array() || !frames.is_array() || frames.size() > kMaxFrames)
+            throw RecordingError(where + ": inputs and frames must be arrays");
+        for (std::size_t i = 0; i < inputs.size(); ++i) {
+            const json& e = inputs[i];
+            const std::string at = where + ": inputs[" + std::to_string(i) + "]";
+            if (!e.is_array() || e.size() != 4) throw RecordingError(at + ": expected [ox, oy, oz, emitter_scale]");
+            r.inputs.push_back({{parse_float(e[0], at), parse_float(e[1], at), parse_float(e[2], at)},
+                                parse_float(e[3], at)});
+        }
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            const json& e = frames[i];
+            const std::string at = where + ": frames[" + std::to_string(i) + "]";
+            if (!e.is_array() || e.size() != 2) throw RecordingError(at + ": expected [particles, surface]");
+            r.frames.push_back({parse_hash(e[0], at), parse_hash(e[1], at)});
+        }
+    } catch (const RecordingError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw RecordingError(where + ": " + e.what());
+    }
+    if (r.frames.empty()) throw RecordingError(where + " records no frames");
+    if (r.inputs.size() != std::size_t(r.scene.warmup_frames) + r.frames.size())
+        throw RecordingError(where + ": expected one input per simulated frame (" +
+                             std::to_string(std::size_t(r.scene.warmup_frames) + r.frames.size()) + "), found " +
+                             std::to_string(r.inputs.size()));
+    return r;
+}
+
+Recording make_recording(const FramePipeline& pipeline, const ScanSettings& scan,
+                         std::span<const FrameInputs> inputs) {
+    Recording r;
+    r.scene = pipeline.scene();
+    r.method = "scan";
+    r.scan = scan;
+    r.inputs.assign(inputs.begin(), inputs.end());
+    for (const FrameRecord& f : pipeline.records()) r.frames.push_back({f.particle_hash, f.hash});
+    return r;
+}
+
+std::optional<Divergence> first_divergence(const Recording& recording, std::span<const FrameRecord> replayed) {
+    const std::size_t n = std::min(recording.frames.size(), replayed.size());
+    for (std::size_t i = 0; i < n; ++i) {
+        const RecordedFrame& want = recording.frames[i];
+        const FrameRecord& got = replayed[i];
+        if (want.particles != got.particle_hash)
+            return Divergence{i, got.frame, "particles", want.particles, got.particle_hash};
+        if (want.surface != got.hash) return Divergence{i, got.frame, "surface", want.surface, got.hash};
+    }
+    if (replayed.size() != recording.frames.size())
+        return Divergence{n, 0, "frame count", recording.frames.size(), replayed.size()};
+    return std::nullopt;
+}
+
+}  // namespace rivulet

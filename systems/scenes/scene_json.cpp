@@ -1,0 +1,88 @@
+#include "systems/scenes/scene_json.h"
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "systems/io/json_fields.h"
+
+namespace rivulet {
+
+using nlohmann::json;
+using json_fields::fail;
+
+// The fields of each scene struct, in file order (json_fields.h walks them).
+template <class F>
+void members(Emitter& e, F&& f) {
+    f("position", e.position), f("direction", e.direction), f("speed", e.speed), f("spread", e.spread);
+    f("nozzle_radius", e.nozzle_radius), f("rate", e.rate);
+}
+template <class F>
+void members(SphereCollider& c, F&& f) {
+    f("center", c.center), f("radius", c.radius);
+}
+template <class F>
+void members(BoxCollider& b, F&& f) {
+    f("min", b.min), f("max", b.max);
+}
+template <class F>
+void members(PoolDesc& p, F&& f) {
+    f("enabled", p.enabled), f("x0", p.x0), f("z0", p.z0), f("size_x", p.size_x), f("size_z", p.size_z);
+    f("nx", p.nx), f("nz", p.nz), f("level", p.level), f("wave_speed", p.wave_speed);
+    f("damping", p.damping), f("impulse_scale", p.impulse_scale), f("max_dip", p.max_dip);
+    f("drain", p.drain);
+}
+template <class F>
+void members(CameraDesc& c, F&& f) {
+    f("eye", c.eye), f("target", c.target), f("fov_y_deg", c.fov_y_deg);
+}
+template <class F>
+void members(ContainerMotion& m, F&& f) {
+    f("amplitude", m.amplitude), f("frequency", m.frequency);
+}
+template <class F>
+void members(SceneDesc& s, F&& f) {
+    f("name", s.name), f("particle_radius", s.particle_radius), f("max_particles", s.max_particles);
+    f("dt", s.dt), f("substeps", s.substeps), f("warmup_frames", s.warmup_frames), f("seed", s.seed);
+    f("lifetime", s.lifetime), f("gravity", s.gravity), f("ground_y", s.ground_y);
+    f("restitution", s.restitution), f("friction", s.friction), f("emitters", s.emitters);
+    f("spheres", s.spheres), f("boxes", s.boxes), f("pool", s.pool), f("v_min", s.v_min), f("v_max", s.v_max);
+    f("camera", s.camera), f("container_motion", s.container_motion);
+}
+
+SceneDesc scene_from_json(const json& doc, const std::string& origin) {
+    if (!doc.is_object()) fail(origin, "a scene file holds one JSON object");
+    SceneDesc scene;
+    json fields = doc;
+    if (const auto it = fields.find("base"); it != fields.end()) {
+        if (!it->is_string()) fail(origin + ": base", "expected the name of a built-in scene");
+        scene = make_builtin_scene(it->get<std::string>());
+        fields.erase("base");
+    }
+    json_fields::read(fields, scene, origin);
+    return scene;
+}
+
+json scene_to_json(const SceneDesc& scene) {
+    return json_fields::write(scene);
+}
+
+SceneDesc load_scene_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot open scene file '" + path + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    json doc = json::parse(text.str(), nullptr, false);
+    if (doc.is_discarded()) throw std::runtime_error("scene file '" + path + "' is not valid JSON");
+    return scene_from_json(doc, path);
+}
+
+SceneDesc resolve_scene(const std::string& name_or_path) {
+    const std::string ext = ".json";
+    if (name_or_path.size() > ext.size() &&
+        name_or_path.compare(name_or_path.size() - ext.size(), ext.size(), ext) == 0)
+        return load_scene_file(name_or_path);
+    return make_builtin_scene(name_or_path);
+}
+
+}  // namespace rivulet
