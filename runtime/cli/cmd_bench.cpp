@@ -2,13 +2,13 @@
 // `rivulet run` process, so thread pools, llvmpipe and the allocator start fresh exactly as a user's run
 // would; the results become bench.json, bench.md and PNG plots (gnuplot).
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include <fmt/format.h>
-#include <filesystem>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -59,7 +59,8 @@ std::vector<int> thread_counts(const std::string& text) {
                 used = 0;
             }
             if (used != item.size() || t < 1 || t > 1024)
-                throw std::invalid_argument(fmt::format("--threads: '{}' is not a count in [1, 1024] or N", item));
+                throw std::invalid_argument(
+                    fmt::format("--threads: '{}' is not a count in [1, 1024] or N", item));
         }
         if (std::find(counts.begin(), counts.end(), t) == counts.end()) counts.push_back(t);
     }
@@ -109,19 +110,33 @@ int bench(const BenchOptions& o) {
     for (const std::string& scene : scenes)
         for (const std::string& method : methods)
             for (int t : threads) {
-                const std::string stem =
-                    fmt::format("{}/{}_{}_t{}", cases_dir, std::filesystem::path(scene).stem().string(), method, t);
-                std::vector<std::string> args = {exe,       "run",        "--scene",   scene,
-                                                 "--method", method,       "--threads", std::to_string(t),
-                                                 "--frames", std::to_string(o.frames + o.timing_warmup),
-                                                 "--timing-warmup", std::to_string(o.timing_warmup),
-                                                 "--out",    "",           "--size",    o.size,
-                                                 "--json",   stem + ".json"};
+                const std::string stem = fmt::format("{}/{}_{}_t{}", cases_dir,
+                                                     std::filesystem::path(scene).stem().string(), method, t);
+                std::vector<std::string> args = {exe,
+                                                 "run",
+                                                 "--scene",
+                                                 scene,
+                                                 "--method",
+                                                 method,
+                                                 "--threads",
+                                                 std::to_string(t),
+                                                 "--frames",
+                                                 std::to_string(o.frames + o.timing_warmup),
+                                                 "--timing-warmup",
+                                                 std::to_string(o.timing_warmup),
+                                                 "--out",
+                                                 "",
+                                                 "--size",
+                                                 o.size,
+                                                 "--json",
+                                                 stem + ".json"};
                 if (o.no_render) args.push_back("--no-render");
-                fmt::print(stderr, "bench [{}/{}] {} {} at {} threads\n", cases.size() + 1, total, scene, method, t);
+                fmt::print(stderr, "bench [{}/{}] {} {} at {} threads\n", cases.size() + 1, total, scene,
+                           method, t);
                 if (const int rc = run_process(args, stem + ".log"); rc != 0)
                     throw std::runtime_error(
-                        fmt::format("case {} / {} / {} threads failed (exit {}); see {}.log", scene, method, t, rc, stem));
+                        fmt::format("case {} / {} / {} threads failed (exit {}); see {}.log", scene, method,
+                                    t, rc, stem));
                 cases.push_back({scene, method, t, read_json(stem + ".json")});
             }
     derive_scaling(cases);
@@ -130,7 +145,8 @@ int bench(const BenchOptions& o) {
     meta["description"] = fmt::format(
         "{} frames per case after {} warm-up frames, {}, {} hardware threads; medians per case; speedup and "
         "efficiency against the same scene and method at its fewest threads.",
-        o.frames, o.timing_warmup, o.no_render ? "extraction only" : fmt::format("rendered at {}x{}", width, height),
+        o.frames, o.timing_warmup,
+        o.no_render ? "extraction only" : fmt::format("rendered at {}x{}", width, height),
         std::thread::hardware_concurrency());
     meta["frames"] = o.frames;
     meta["timing_warmup"] = o.timing_warmup;
@@ -149,7 +165,8 @@ int bench(const BenchOptions& o) {
     write_gnuplot_inputs(cases, o.out);
     const std::string gnuplot = "/usr/bin/gnuplot";
     if (!std::filesystem::exists(gnuplot)) {
-        fmt::print(stderr, "rivulet bench: warning: gnuplot not found (.ci/install-deps installs it); no plots\n");
+        fmt::print(stderr,
+                   "rivulet bench: warning: gnuplot not found (.ci/install-deps installs it); no plots\n");
         return 0;
     }
     const std::string cwd = std::filesystem::current_path().string();

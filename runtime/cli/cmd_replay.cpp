@@ -3,9 +3,9 @@
 
 #include "cli/commands.h"
 #include "cli/progress_bar.h"
+#include "jobs/mesh_hash.h"
 #include "runtime/lib/frame_pipeline.h"
 #include "runtime/lib/recording.h"
-#include "jobs/mesh_hash.h"
 #include "runtime/lib/thread_control.h"
 
 namespace rivulet::cli {
@@ -33,15 +33,16 @@ int replay(const ReplayOptions& o) {
 
     const auto diverged = first_divergence(rec, pipeline.records());
     if (!diverged) {
-        fmt::print("replay {}: scene {}, method {}, {} frames at {} threads: identical\n", o.file, rec.scene.name,
-                   rec.method, frames, threads.threads());
+        fmt::print("replay {}: scene {}, method {}, {} frames at {} threads: identical\n", o.file,
+                   rec.scene.name, rec.method, frames, threads.threads());
         return 0;
     }
     const Divergence& d = *diverged;
-    fmt::print("replay {}: scene {}, method {}, {} threads: DIVERGED at frame {} (simulation frame {}): {} "
-               "recorded {} replayed {}\n",
-               o.file, rec.scene.name, rec.method, threads.threads(), d.frame, d.sim_frame, d.buffer,
-               hash_hex(d.recorded), hash_hex(d.replayed));
+    fmt::print(
+        "replay {}: scene {}, method {}, {} threads: DIVERGED at frame {} (simulation frame {}): {} "
+        "recorded {} replayed {}\n",
+        o.file, rec.scene.name, rec.method, threads.threads(), d.frame, d.sim_frame, d.buffer,
+        hash_hex(d.recorded), hash_hex(d.replayed));
     return 1;
 }
 
@@ -50,7 +51,8 @@ int replay(const ReplayOptions& o) {
 void add_replay_command(CLI::App& app, int& status) {
     auto opts = std::make_shared<ReplayOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "replay", "Re-run a recording (rivulet run --record) and report the first frame that differs (exit 1)");
+        "replay",
+        "Re-run a recording (rivulet run --record) and report the first frame that differs (exit 1)");
     cmd->add_option("FILE", opts->file, "Recording file")->required();
     add_threads_option(*cmd, opts->threads, "Threads for TBB (0 = all)");
     cmd->callback([opts, &status] { status = replay(*opts); });

@@ -1,8 +1,8 @@
 // rivulet run: simulate a scene, extract its surface and render it, frame after frame, pipelined.
 #include <fmt/format.h>
 #include <fstream>
-#include <span>
 #include <nlohmann/json.hpp>
+#include <span>
 
 #include "cli/commands.h"
 #include "cli/progress_bar.h"
@@ -120,7 +120,8 @@ int run(const RunOptions& o) {
     }
     if (!o.record.empty()) {
         write_recording(o.record, make_recording(pipeline, config.scan, inputs_log));
-        fmt::print("recording: {} ({} frames; replay with: rivulet replay {})\n", o.record, recs.size(), o.record);
+        fmt::print("recording: {} ({} frames; replay with: rivulet replay {})\n", o.record, recs.size(),
+                   o.record);
     }
     if (!o.json.empty()) {
         nlohmann::json j = stage_json(summary);
@@ -142,7 +143,8 @@ void add_run_command(CLI::App& app, int& status) {
     auto opts = std::make_shared<RunOptions>();
     CLI::App* cmd =
         app.add_subcommand("run", "Simulate a scene, extract its surface and render it, frame after frame");
-    cmd->add_option("--scene", opts->scene, "Built-in scene (fountain, faucet, hose) or a scene file FILE.json")
+    cmd->add_option("--scene", opts->scene,
+                    "Built-in scene (fountain, faucet, hose) or a scene file FILE.json")
         ->capture_default_str();
     add_method_option(*cmd, opts->method);
     cmd->add_option("--frames", opts->frames, "Frames to render")->capture_default_str();

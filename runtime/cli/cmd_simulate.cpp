@@ -43,7 +43,8 @@ int simulate(const SimulateOptions& o) {
         const auto t0 = std::chrono::steady_clock::now();
         const ParticleSet& p = sim.particles();
         write_particles_ply(fmt::format("{}/frame_{:05d}.ply", o.out, i), p.x(), p.y(), p.z());
-        write_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        write_ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         bar.update(i + 1);
     }
     fmt::print("scene {} | {} frames | {} threads | {} particles (last frame)\n", scene.name, o.frames,
@@ -58,8 +59,10 @@ int simulate(const SimulateOptions& o) {
 
 void add_simulate_command(CLI::App& app, int& status) {
     auto opts = std::make_shared<SimulateOptions>();
-    CLI::App* cmd = app.add_subcommand("simulate", "Simulate a scene and write its particles as a PLY sequence");
-    cmd->add_option("--scene", opts->scene, "Built-in scene (fountain, faucet, hose) or a scene file FILE.json")
+    CLI::App* cmd =
+        app.add_subcommand("simulate", "Simulate a scene and write its particles as a PLY sequence");
+    cmd->add_option("--scene", opts->scene,
+                    "Built-in scene (fountain, faucet, hose) or a scene file FILE.json")
         ->capture_default_str();
     cmd->add_option("--frames", opts->frames, "Frames to write")->capture_default_str();
     add_threads_option(*cmd, opts->threads, "Threads for TBB (0 = all)");

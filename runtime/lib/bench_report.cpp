@@ -44,7 +44,8 @@ void derive_scaling(std::vector<BenchCase>& cases) {
     for (BenchCase& c : cases) {
         const double frame_ms = number(c.run, "frame_ms");
         if (!(frame_ms > 0))
-            throw std::invalid_argument(fmt::format("bench case {} at {} threads has no frame time", key(c), c.threads));
+            throw std::invalid_argument(
+                fmt::format("bench case {} at {} threads has no frame time", key(c), c.threads));
         c.frames_per_second = 1000.0 / frame_ms;
         const BenchCase*& b = base[key(c)];
         if (!b || c.threads < b->threads) b = &c;
@@ -71,12 +72,15 @@ nlohmann::json bench_json(const std::vector<BenchCase>& cases, const nlohmann::j
 
 std::string bench_markdown(const std::vector<BenchCase>& cases, const nlohmann::json& meta) {
     std::string md = fmt::format("# rivulet bench\n\n{}\n\n", meta.value("description", std::string()));
-    md += "| scene | method | threads | frame ms | frames/s | speedup | efficiency | extract ms | render ms |\n";
+    md +=
+        "| scene | method | threads | frame ms | frames/s | speedup | efficiency | extract ms | render ms "
+        "|\n";
     md += "|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const BenchCase& c : cases)
-        md += fmt::format("| {} | {} | {} | {:.2f} | {:.1f} | {:.2f} | {:.0f} % | {:.2f} | {:.2f} |\n", c.scene,
-                          c.method, c.threads, number(c.run, "frame_ms"), c.frames_per_second, c.speedup,
-                          100.0 * c.efficiency, number(c.run, "extract_ms"), number(c.run, "render_ms"));
+        md +=
+            fmt::format("| {} | {} | {} | {:.2f} | {:.1f} | {:.2f} | {:.0f} % | {:.2f} | {:.2f} |\n", c.scene,
+                        c.method, c.threads, number(c.run, "frame_ms"), c.frames_per_second, c.speedup,
+                        100.0 * c.efficiency, number(c.run, "extract_ms"), number(c.run, "render_ms"));
     const std::vector<std::string> stages = stage_names(cases);
     md += "\nPer-stage medians (ms):\n\n| case |";
     for (const std::string& s : stages) md += " " + s + " |";
@@ -132,8 +136,8 @@ std::string write_gnuplot_inputs(const std::vector<BenchCase>& cases, const std:
     gp += "set xlabel 'threads'\nset ylabel 'frames/s'\nset key left top\nset grid\n";
     gp += "plot ";
     for (std::size_t i = 0; i < series.size(); ++i) {
-        gp += fmt::format("'scaling.dat' index {} using 1:2 with linespoints lw 2 lc {} title '{}', ", i, i + 1,
-                          series[i]);
+        gp += fmt::format("'scaling.dat' index {} using 1:2 with linespoints lw 2 lc {} title '{}', ", i,
+                          i + 1, series[i]);
         gp += fmt::format("'scaling.dat' index {} using 1:3 with lines dt 2 lc {} title '{} ideal'", i, i + 1,
                           series[i]);
         gp += i + 1 < series.size() ? ", \\\n     " : "\n";
@@ -142,7 +146,8 @@ std::string write_gnuplot_inputs(const std::vector<BenchCase>& cases, const std:
     gp += "set ylabel 'ms'\nset style data histograms\nset style histogram rowstacked\n";
     gp += "set style fill solid 0.85 border -1\nset boxwidth 0.7\nset xtics rotate by -30\n";
     gp += "set key outside right top\nset grid y\n";
-    gp += fmt::format("plot for [i=2:{}] 'stages.dat' using i:xtic(1) title columnheader(i)\n", stages.size() + 2);
+    gp += fmt::format("plot for [i=2:{}] 'stages.dat' using i:xtic(1) title columnheader(i)\n",
+                      stages.size() + 2);
     const std::string path = dir + "/plots.gp";
     write_text(path, gp);
     return path;

@@ -12,12 +12,12 @@
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/frame_slot.h"
 #include "runtime/lib/scan_jobs.h"
+#include "runtime/lib/scene_simulation.h"
 #include "runtime/lib/trace_recorder.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/renderer.h"
 #include "systems/scan/scan_converter.h"
 #include "systems/scenes/scene.h"
-#include "runtime/lib/scene_simulation.h"
 
 namespace rivulet {
 

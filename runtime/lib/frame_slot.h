@@ -6,8 +6,8 @@
 
 #include "systems/particles/aligned_array.h"
 #include "systems/render/frame_view.h"
-#include "systems/scenes/frame_inputs.h"
 #include "systems/scan/scan_output.h"
+#include "systems/scenes/frame_inputs.h"
 
 namespace rivulet {
 

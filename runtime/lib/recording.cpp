@@ -33,7 +33,8 @@ std::uint64_t parse_hash(const json& j, const std::string& where) {
 }
 
 float parse_float(const json& j, const std::string& where) {
-    if (!j.is_number() || !std::isfinite(j.get<double>())) throw RecordingError(where + ": expected a number");
+    if (!j.is_number() || !std::isfinite(j.get<double>()))
+        throw RecordingError(where + ": expected a number");
     return j.get<float>();
 }
 
@@ -48,7 +49,8 @@ void write_recording(const std::string& path, const Recording& r) {
     doc["settings"] = scan_settings_to_json(r.scan);
     json inputs = json::array();
     for (const FrameInputs& in : r.inputs)
-        inputs.push_back({in.container_offset.x, in.container_offset.y, in.container_offset.z, in.emitter_scale});
+        inputs.push_back(
+            {in.container_offset.x, in.container_offset.y, in.container_offset.z, in.emitter_scale});
     doc["inputs"] = std::move(inputs);
     json frames = json::array();
     for (const RecordedFrame& f : r.frames) frames.push_back({hash_hex(f.particles), hash_hex(f.surface)});
@@ -68,7 +70,8 @@ Recording read_recording(const std::string& path) {
     const std::string where = "recording '" + path + "'";
     json doc = json::parse(text.str(), nullptr, false);
     if (doc.is_discarded() || !doc.is_object())
-        throw RecordingError(where + " is not a Rivulet recording, or is truncated (not one valid JSON object)");
+        throw RecordingError(where +
+                             " is not a Rivulet recording, or is truncated (not one valid JSON object)");
     if (doc.value("format", json()) != kRecordingFormat)
         throw RecordingError(where + " is not a Rivulet recording (format is not \"" +
                              std::string(kRecordingFormat) + "\")");
@@ -96,7 +99,8 @@ Recording read_recording(const std::string& path) {
         for (std::size_t i = 0; i < inputs.size(); ++i) {
             const json& e = inputs[i];
             const std::string at = where + ": inputs[" + std::to_string(i) + "]";
-            if (!e.is_array() || e.size() != 4) throw RecordingError(at + ": expected [ox, oy, oz, emitter_scale]");
+            if (!e.is_array() || e.size() != 4)
+                throw RecordingError(at + ": expected [ox, oy, oz, emitter_scale]");
             r.inputs.push_back({{parse_float(e[0], at), parse_float(e[1], at), parse_float(e[2], at)},
                                 parse_float(e[3], at)});
         }
@@ -114,8 +118,8 @@ Recording read_recording(const std::string& path) {
     if (r.frames.empty()) throw RecordingError(where + " records no frames");
     if (r.inputs.size() != std::size_t(r.scene.warmup_frames) + r.frames.size())
         throw RecordingError(where + ": expected one input per simulated frame (" +
-                             std::to_string(std::size_t(r.scene.warmup_frames) + r.frames.size()) + "), found " +
-                             std::to_string(r.inputs.size()));
+                             std::to_string(std::size_t(r.scene.warmup_frames) + r.frames.size()) +
+                             "), found " + std::to_string(r.inputs.size()));
     return r;
 }
 
@@ -130,7 +134,8 @@ Recording make_recording(const FramePipeline& pipeline, const ScanSettings& scan
     return r;
 }
 
-std::optional<Divergence> first_divergence(const Recording& recording, std::span<const FrameRecord> replayed) {
+std::optional<Divergence> first_divergence(const Recording& recording,
+                                           std::span<const FrameRecord> replayed) {
     const std::size_t n = std::min(recording.frames.size(), replayed.size());
     for (std::size_t i = 0; i < n; ++i) {
         const RecordedFrame& want = recording.frames[i];

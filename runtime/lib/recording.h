@@ -29,7 +29,7 @@ struct Recording {
     SceneDesc scene;  // warm-up frames included (scene.warmup_frames)
     std::string method = "scan";
     ScanSettings scan;
-    std::vector<FrameInputs> inputs;   // every simulated frame: warm-up frames first, then recorded ones
+    std::vector<FrameInputs> inputs;    // every simulated frame: warm-up frames first, then recorded ones
     std::vector<RecordedFrame> frames;  // recorded frames (after warm-up)
 };
 
@@ -47,7 +47,7 @@ Recording make_recording(const FramePipeline& pipeline, const ScanSettings& scan
                          std::span<const FrameInputs> inputs);
 
 struct Divergence {
-    std::size_t frame = 0;     // recorded frame index (0 = first after warm-up)
+    std::size_t frame = 0;  // recorded frame index (0 = first after warm-up)
     std::uint64_t sim_frame = 0;
     std::string buffer;  // "particles" or "surface"
     std::uint64_t recorded = 0, replayed = 0;

@@ -30,8 +30,10 @@ void SceneSimulation::end_frame() {
     next_frame_ = last_frame_ + 1;
 }
 
-FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph, std::initializer_list<FrameGraph::JobId> after) {
-    const auto begin = graph.serial("simulate.begin", [this] { begin_frame(); }, after);
+FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,
+                                            std::initializer_list<FrameGraph::JobId> after) {
+    const auto begin = graph.serial(
+        "simulate.begin", [this] { begin_frame(); }, after);
     const auto integrate = graph.parallel(
         "simulate.integrate", [this] { return (particles_.size() + kSimChunk - 1) / kSimChunk; },
         [this](std::size_t c) {

@@ -34,7 +34,7 @@ inline void read(const json& j, float& out, const std::string& where) {
     out = static_cast<float>(v);
 }
 template <class I>
-    requires std::is_integral_v<I>
+requires std::is_integral_v<I>
 void read_integer(const json& j, I& out, const std::string& where) {
     if (!j.is_number_integer()) fail(where, "expected an integer");
     if constexpr (std::is_unsigned_v<I>) {

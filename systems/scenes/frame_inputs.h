@@ -10,7 +10,7 @@
 namespace rivulet {
 
 struct FrameInputs {
-    Vec3f container_offset;    // displacement of the fluid container from its rest pose (SPH scenes)
+    Vec3f container_offset;   // displacement of the fluid container from its rest pose (SPH scenes)
     float emitter_scale = 1;  // multiplies every emitter's rate (stream scenes)
 };
 

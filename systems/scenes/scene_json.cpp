@@ -8,8 +8,8 @@
 
 namespace rivulet {
 
-using nlohmann::json;
 using json_fields::fail;
+using nlohmann::json;
 
 // The fields of each scene struct, in file order (json_fields.h walks them).
 template <class F>

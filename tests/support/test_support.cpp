@@ -1,9 +1,13 @@
 #include "support/test_support.h"
 
+#include <sys/wait.h>
 #include <unistd.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <tuple>
 #include <utility>
@@ -41,6 +45,27 @@ std::string temp_path(const std::string& name) {
     const auto dir = std::filesystem::temp_directory_path() / ("rivulet-test-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     return (dir / name).string();
+}
+
+Result run_cli(const std::string& args) {
+    Result r;
+    const std::string cmd = std::string(RIVULET_CLI) + " " + args + " 2>&1";
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf{};
+    while (std::fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
+    const int raw = ::pclose(pipe);
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return r;
+}
+
+nlohmann::json read_json(const std::string& path) {
+    std::ifstream f(path);
+    return nlohmann::json::parse(f);
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream(path) << text;
 }
 
 }  // namespace rivulet::test

@@ -1,6 +1,7 @@
 #pragma once
 // Shared helpers for tests: geometry checks on indexed triangle meshes.
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 
@@ -12,5 +13,15 @@ std::size_t count_open_edges(std::span<const float> positions3, std::span<const 
                              float weld = 0.0f);
 
 std::string temp_path(const std::string& name);
+
+// Runs the rivulet executable with `args` (shell words) and collects stdout and stderr together.
+struct Result {
+    int status = -1;
+    std::string output;
+};
+Result run_cli(const std::string& args);
+
+nlohmann::json read_json(const std::string& path);
+void write_text(const std::string& path, const std::string& text);
 
 }  // namespace rivulet::test
