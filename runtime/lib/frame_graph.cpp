@@ -34,6 +34,33 @@ FrameGraph::JobId FrameGraph::parallel(std::string name, CountFn count, ItemFn i
     return static_cast<JobId>(jobs_.size() - 1);
 }
 
+FrameGraph::JobId FrameGraph::nested(std::string name, JobId parent) {
+    if (tbb_) throw std::logic_error("FrameGraph: jobs must be added before the first run");
+    if (parent >= jobs_.size() || !jobs_[parent].serial || jobs_[parent].parent >= 0)
+        throw std::logic_error("FrameGraph: a nested job's parent must be a serial job of the graph");
+    jobs_.push_back({std::move(name), {}, {}, {}, {}});
+    jobs_.back().parent = parent;
+    return static_cast<JobId>(jobs_.size() - 1);
+}
+
+void FrameGraph::run_nested_items(JobId j, std::size_t n, ItemRef item) {
+    using us = std::chrono::duration<double, std::micro>;
+    Job& job = jobs_[j];
+    const auto t_begin = std::chrono::steady_clock::now();
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const std::int64_t t = trace_ ? trace_->now_ns() : 0;
+                item.call(item.fn, i);
+                if (trace_)
+                    trace_->record(job.trace_name, frame_, static_cast<std::int32_t>(i), t, trace_->now_ns());
+            }
+        });
+    // Nested jobs keep begin_us at 0 and end_us as their summed time, so job_ms() is that sum.
+    job.end_us += us(std::chrono::steady_clock::now() - t_begin).count();
+    job.items += n;
+}
+
 void FrameGraph::execute(JobId j) {
     Job& job = jobs_[j];
     job.items = 0;
@@ -91,9 +118,11 @@ void FrameGraph::build() {
             tbb_->graph, [this, j](const tbb::flow::continue_msg&) { execute(j); }));
     }
     for (JobId j = 0; j < jobs_.size(); ++j) {
+        if (jobs_[j].parent >= 0) continue;  // runs inside its parent, not as a node of its own
         if (jobs_[j].after.empty()) tbb::flow::make_edge(tbb_->start, *tbb_->nodes[j]);
         for (JobId d : jobs_[j].after) {
             if (d >= j) throw std::logic_error("FrameGraph: a job may only follow jobs added before it");
+            if (jobs_[d].parent >= 0) throw std::logic_error("FrameGraph: a job cannot follow a nested job");
             tbb::flow::make_edge(*tbb_->nodes[d], *tbb_->nodes[j]);
         }
     }
@@ -103,6 +132,8 @@ void FrameGraph::start() {
     if (!tbb_) build();
     failed_ = false;
     error_ = nullptr;
+    for (Job& job : jobs_)
+        if (job.parent >= 0) job.begin_us = job.end_us = 0, job.items = 0;
     t0_ = std::chrono::steady_clock::now();
     tbb_->start.try_put(tbb::flow::continue_msg());
 }

@@ -33,6 +33,16 @@ class FrameGraph {
     JobId serial(std::string name, SerialFn fn, std::initializer_list<JobId> after = {});
     // `count` is asked when the job starts (item counts change per frame); items run in any order.
     JobId parallel(std::string name, CountFn count, ItemFn item, std::initializer_list<JobId> after = {});
+    // A job that a serial job runs from inside its body, any number of times per frame: for loops the
+    // static graph cannot express (SPH substeps). Timed and traced like other jobs; its time is the sum
+    // over the frame's calls. `parent` is the serial job that calls run_nested for it.
+    JobId nested(std::string name, JobId parent);
+    // From inside `parent`'s body: runs items [0, n) of nested job `j` on the workers and returns when all
+    // are done. `item` is called as item(std::size_t); it is not copied, so nothing allocates.
+    template <class F>
+    void run_nested(JobId j, std::size_t n, F&& item) {
+        run_nested_items(j, n, ItemRef{&item, [](void* f, std::size_t i) { (*static_cast<F*>(f))(i); }});
+    }
 
     // A job that throws stops the frame's remaining jobs; wait() rethrows the first exception.
     // Starts the jobs without dependencies and returns: TBB workers run the frame while the caller does
@@ -52,6 +62,8 @@ class FrameGraph {
     std::size_t job_count() const { return jobs_.size(); }
     const std::string& job_name(JobId j) const { return jobs_[j].name; }
     const std::vector<JobId>& job_after(JobId j) const { return jobs_[j].after; }
+    // The job whose body runs nested job `j`; -1 for jobs of the graph itself.
+    std::int64_t job_parent(JobId j) const { return jobs_[j].parent; }
     // Last run: job start/end in µs since start(), and items processed.
     double job_begin_us(JobId j) const { return jobs_[j].begin_us; }
     double job_end_us(JobId j) const { return jobs_[j].end_us; }
@@ -61,6 +73,12 @@ class FrameGraph {
     double last_run_ms() const;
 
   private:
+    struct ItemRef {
+        void* fn;
+        void (*call)(void*, std::size_t);
+    };
+    void run_nested_items(JobId j, std::size_t n, ItemRef item);
+
     struct Job {
         std::string name;
         SerialFn serial;
@@ -70,6 +88,7 @@ class FrameGraph {
         double begin_us = 0, end_us = 0;
         std::size_t items = 0;
         std::uint16_t trace_name = 0;
+        std::int64_t parent = -1;
     };
     void execute(JobId j);
     void run_job(Job& job);

@@ -108,7 +108,10 @@ nlohmann::json chrome_trace(const TraceRecorder& recorder, const FrameGraph& gra
     for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j) {
         json after = json::array();
         for (FrameGraph::JobId d : graph.job_after(j)) after.push_back(graph.job_name(d));
-        jobs.push_back({{"name", graph.job_name(j)}, {"after", after}});
+        json entry = {{"name", graph.job_name(j)}, {"after", after}};
+        if (graph.job_parent(j) >= 0)
+            entry["nested_in"] = graph.job_name(static_cast<FrameGraph::JobId>(graph.job_parent(j)));
+        jobs.push_back(std::move(entry));
     }
     return json{{"traceEvents", events},
                 {"displayTimeUnit", "ms"},

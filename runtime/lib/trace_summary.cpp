@@ -71,9 +71,21 @@ TraceSummary summarize_trace(const nlohmann::json& trace) {
     const auto other = trace.value("otherData", nlohmann::json::object());
     if (!other.contains("jobs"))
         throw std::runtime_error("not a Rivulet capture: otherData.jobs (the frame graph) is missing");
+    // Nested jobs run inside their parent's zone: the parent's span covers them on the critical path,
+    // and their zones (not the parent's) count as busy time, so no work is counted twice.
     std::vector<std::pair<std::string, std::vector<std::string>>> jobs;
-    for (const auto& j : other["jobs"])
+    std::vector<std::string> nested, parents;
+    for (const auto& j : other["jobs"]) {
+        if (j.contains("nested_in")) {
+            nested.push_back(j.at("name"));
+            parents.push_back(j.at("nested_in"));
+            continue;
+        }
         jobs.emplace_back(j.at("name"), j.at("after").get<std::vector<std::string>>());
+    }
+    const auto is_parent = [&parents](const std::string& name) {
+        return std::find(parents.begin(), parents.end(), name) != parents.end();
+    };
 
     std::vector<Zone> zones;
     std::map<int, std::string> thread_names;
@@ -92,6 +104,7 @@ TraceSummary summarize_trace(const nlohmann::json& trace) {
     // Per job, in graph order, then the render-side zones.
     std::vector<std::string> order;
     for (const auto& [name, after] : jobs) order.push_back(name);
+    order.insert(order.end(), nested.begin(), nested.end());
     for (const Zone& z : zones)
         if (std::find(order.begin(), order.end(), z.name) == order.end()) order.push_back(z.name);
     for (const std::string& name : order) {
@@ -111,7 +124,7 @@ TraceSummary summarize_trace(const nlohmann::json& trace) {
     std::map<int, double> busy;
     for (const Zone& z : zones) {
         first = std::min(first, z.begin), last = std::max(last, z.end);
-        busy[z.tid] += z.end - z.begin;
+        if (!is_parent(z.name)) busy[z.tid] += z.end - z.begin;
     }
     s.wall_ms = (last - first) * 1e-3;
     for (const auto& [tid, name] : thread_names) busy.emplace(tid, 0.0);
