@@ -117,7 +117,7 @@ TEST(Cli, BadInputsFailWithAClearMessage) {
                                            {"run --epsilon -1 --frames 1", "--epsilon"},
                                            {"run --warmup -3 --frames 1", "--warmup"},
                                            {"mesh " + nan + " --threads 5000", "--threads"},
-                                           {"mesh " + nan + " --method slices", "slices"}}) {
+                                           {"mesh " + nan + " --method voxels", "voxels"}}) {
         const Result r = run_cli(c.args);
         EXPECT_NE(r.status, 0) << c.args;
         EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << " said: " << r.output;

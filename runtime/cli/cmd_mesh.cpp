@@ -26,11 +26,24 @@ struct MeshOptions {
     std::string out;
     std::string json;
     ScanOptions scan;
+    SlicesOptions slices;
 };
 
-nlohmann::json mesh_json(const MeshResult& r) {
+nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [name, ms] : r.stage_ms) stages[name] = ms;
+    if (method == "slices")
+        return {{"particles", r.particles},
+                {"vertices", r.mesh.vertex_count()},
+                {"triangles", r.mesh.triangle_count()},
+                {"total_ms", r.total_ms},
+                {"stages", stages},
+                {"mesh_hash", hash_hex(r.hash)},
+                {"radius", r.radius},
+                {"voxel", r.voxel},
+                {"rc", r.rc},
+                {"iso", r.iso},
+                {"blocks", r.blocks}};
     return {{"particles", r.particles},
             {"vertices", r.mesh.vertex_count()},
             {"triangles", r.mesh.triangle_count()},
@@ -48,7 +61,15 @@ int run(const MeshOptions& o) {
     if (o.radius < 0 || !std::isfinite(o.radius))
         throw std::invalid_argument(fmt::format("--radius must be positive, got {}", o.radius));
     MeshRequest req;
+    req.method = o.method;
     req.scan = o.scan.resolve();
+    req.slices.voxel = o.slices.voxel;
+    req.slices.block_cubes = o.slices.block;
+    if (o.method == "slices" && o.radius > 0) {
+        SlicesSettings probe = req.slices;
+        probe.radius = o.radius;
+        if (const std::string err = probe.validate(); !err.empty()) throw std::invalid_argument(err);
+    }
     {
         // Check the options before reading any file; radius and V extent come with the particles.
         ScanSettings probe = req.scan;
@@ -79,7 +100,7 @@ int run(const MeshOptions& o) {
         const ParticleCloud cloud = read_particles(jobs[i].in);
         const MeshResult r = extract_mesh(cloud, req);
         if (!jobs[i].out.empty()) write_mesh(jobs[i].out, r.mesh.vertices, r.mesh.indices);
-        nlohmann::json j = mesh_json(r);
+        nlohmann::json j = mesh_json(r, o.method);
         j["input"] = jobs[i].in;
         if (!sequence)
             fmt::print(
@@ -92,7 +113,7 @@ int run(const MeshOptions& o) {
     if (!o.json.empty()) {
         nlohmann::json doc = sequence ? nlohmann::json{{"frames", per_frame}} : per_frame[0];
         doc["threads"] = threads.threads();
-        doc["method"] = "scan";
+        doc["method"] = o.method;
         write_json_file(o.json, doc);
     }
     return 0;
@@ -106,7 +127,7 @@ void add_mesh_command(CLI::App& app, int& status) {
         "mesh", "Extract a triangle mesh from particle files (.ply, .xyz, .vtk, or a {} pattern)");
     cmd->add_option("input", opts->input, "Particle file, or a sequence pattern such as frames/frame_{}.ply")
         ->required();
-    add_method_option(*cmd, opts->method);
+    add_method_option(*cmd, opts->method, /*slices_available=*/true);
     cmd->add_option("--radius", opts->radius,
                     "Particle radius in world units (default: half the median neighbour distance)");
     add_threads_option(*cmd, opts->threads, "Threads (0 = all)");
@@ -116,6 +137,7 @@ void add_mesh_command(CLI::App& app, int& status) {
                     "Mesh file to write: .obj, .ply or .vtk (a {} pattern for sequences)");
     cmd->add_option("--json", opts->json, "Write counts, timings and mesh_hash as JSON");
     opts->scan.add_to(*cmd);
+    opts->slices.add_to(*cmd);
     cmd->callback([opts, &status] { status = run(*opts); });
 }
 

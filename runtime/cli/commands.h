@@ -25,10 +25,18 @@ struct ScanOptions {
     ScanSettings resolve() const;
 };
 
-// The options every extracting command shares, each with its check: --method (only 'scan' is built) and
-// --threads (0 = all hardware threads, at most 1024).
-void add_method_option(CLI::App& cmd, std::string& method);
+// The options every extracting command shares, each with its check: --method ('scan', and 'slices' where
+// the command has it wired: `mesh` does, `run` not yet) and --threads (0 = all hardware threads, at most
+// 1024).
+void add_method_option(CLI::App& cmd, std::string& method, bool slices_available = false);
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help);
+
+// Options of marching slices for `mesh` (--voxel, --block).
+struct SlicesOptions {
+    float voxel = 0;
+    std::uint32_t block = 16;
+    void add_to(CLI::App& cmd);
+};
 
 // Writes `doc` pretty-printed to `path`; throws std::runtime_error when the file cannot be written.
 void write_json_file(const std::string& path, const nlohmann::json& doc);

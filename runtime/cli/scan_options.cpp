@@ -55,16 +55,31 @@ ScanSettings ScanOptions::resolve() const {
     return s;
 }
 
-void add_method_option(CLI::App& cmd, std::string& method) {
-    cmd.add_option("--method", method, "Surface method: scan (sphere scan conversion)")
+void add_method_option(CLI::App& cmd, std::string& method, bool slices_available) {
+    cmd.add_option("--method", method,
+                   slices_available
+                       ? "Surface method: scan (sphere scan conversion) or slices (marching slices)"
+                       : "Surface method: scan (sphere scan conversion)")
         ->capture_default_str()
         ->check(CLI::Validator(
-            [](std::string& m) -> std::string {
-                if (m == "scan") return {};
+            [slices_available](std::string& m) -> std::string {
+                if (m == "scan" || (slices_available && m == "slices")) return {};
+                if (m == "slices")
+                    return "'slices' is not available for this command yet: use 'scan' (or `rivulet mesh "
+                           "--method slices`)";
                 return fmt::format(
-                    "'{}' is not available: this build implements 'scan' (sphere scan conversion)", m);
+                    "'{}' is not available: choose {}", m,
+                    slices_available ? "'scan' or 'slices'" : "'scan' (sphere scan conversion)");
             },
             "METHOD"));
+}
+
+void SlicesOptions::add_to(CLI::App& cmd) {
+    cmd.add_option("--voxel", voxel, "Marching slices: cube edge in world units (default: radius / 2)")
+        ->check(positive_number());
+    cmd.add_option("--block", block, "Marching slices: cubes per block edge (n, a block is n^3 cubes)")
+        ->capture_default_str()
+        ->check(CLI::Range(2, 128));
 }
 
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help) {

@@ -6,12 +6,52 @@
 
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/scan_jobs.h"
+#include "runtime/lib/slices_jobs.h"
 #include "runtime/lib/stage_summary.h"
 #include "systems/particles/particle_set.h"
 #include "systems/particles/radius_estimate.h"
 #include "systems/scan/scan_converter.h"
+#include "systems/slices/slices_extractor.h"
 
 namespace rivulet {
+namespace {
+
+// Runs `graph` `repeat` times; medians of the wall time and of each job into `result`.
+void time_graph(FrameGraph& graph, int repeat, MeshResult& result) {
+    std::vector<double> totals;
+    std::vector<std::vector<double>> stages(0);
+    for (int r = 0; r < repeat; ++r) {
+        graph.run();
+        totals.push_back(graph.last_run_ms());
+        stages.resize(graph.job_count());
+        for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j) stages[j].push_back(graph.job_ms(j));
+    }
+    result.total_ms = median(totals);
+    for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j)
+        result.stage_ms.emplace_back(graph.job_name(j), median(stages[j]));
+}
+
+void extract_slices(const ParticleSet& particles, const MeshRequest& req, MeshResult& result) {
+    SlicesSettings s = req.slices;
+    s.radius = result.radius;
+    SlicesExtractor slices(s, particles.size());
+    SurfaceMesh out;
+    FrameGraph graph;
+    add_slices_jobs(
+        graph, slices, [&particles] { return particles.positions(); },
+        [&out]() -> SurfaceMesh& { return out; });
+    time_graph(graph, req.repeat, result);
+    result.voxel = slices.voxel();
+    result.rc = slices.rc();
+    result.iso = slices.iso();
+    result.blocks = slices.stats().active_blocks;
+    const TriangleMeshView view = out.view();
+    result.mesh.vertices.assign(view.vertices.begin(), view.vertices.end());
+    result.mesh.indices.assign(view.indices.begin(), view.indices.end());
+    result.hash = mesh_hash(result.mesh);
+}
+
+}  // namespace
 
 MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& req) {
     const std::size_t n = cloud.x.size();
@@ -26,6 +66,11 @@ MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& req) {
     if (!(result.radius > 0))
         throw std::invalid_argument(
             "cannot estimate a particle radius (all particles coincide): pass --radius");
+    if (req.method == "slices") {
+        extract_slices(particles, req, result);
+        return result;
+    }
+    if (req.method != "scan") throw std::invalid_argument(fmt::format("unknown method '{}'", req.method));
     ScanSettings s = req.scan;
     s.radius = result.radius;
     const auto [lo, hi] = std::minmax_element(cloud.y.begin(), cloud.y.end());
@@ -39,17 +84,7 @@ MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& req) {
     FrameGraph graph;
     add_scan_jobs(
         graph, scan, [&particles] { return particles.positions(); }, [&out]() -> ScanOutput& { return out; });
-    std::vector<double> totals;
-    std::vector<std::vector<double>> stages(0);
-    for (int r = 0; r < req.repeat; ++r) {
-        graph.run();
-        totals.push_back(graph.last_run_ms());
-        stages.resize(graph.job_count());
-        for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j) stages[j].push_back(graph.job_ms(j));
-    }
-    result.total_ms = median(totals);
-    for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j)
-        result.stage_ms.emplace_back(graph.job_name(j), median(stages[j]));
+    time_graph(graph, req.repeat, result);
     result.groups = out.draw_count;
     result.isolated = out.sphere_count;
     result.mesh = assemble_scan_mesh(out, scan.layout(), result.radius);

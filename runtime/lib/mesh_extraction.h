@@ -1,6 +1,7 @@
 #pragma once
-// Offline meshing of one particle set (`rivulet mesh`): the scan conversion jobs of a frame graph run
-// `repeat` times on the same particles; timings exclude file I/O.
+// Offline meshing of one particle set (`rivulet mesh`): the jobs of one surface method (sphere scan
+// conversion, or marching slices) in a frame graph run `repeat` times on the same particles; timings
+// exclude file I/O.
 #include <string>
 #include <utility>
 #include <vector>
@@ -8,19 +9,24 @@
 #include "systems/io/particle_io.h"
 #include "systems/scan/scan_mesh.h"
 #include "systems/scan/scan_settings.h"
+#include "systems/slices/slices_settings.h"
 
 namespace rivulet {
 
 struct MeshRequest {
-    ScanSettings scan;  // v_top / v_bottom come from the particles' extent
-    float radius = 0;   // 0: estimated from the particles
+    std::string method = "scan";  // "scan" or "slices"
+    ScanSettings scan;            // v_top / v_bottom come from the particles' extent
+    SlicesSettings slices;        // radius comes from `radius` below
+    float radius = 0;             // 0: estimated from the particles
     int repeat = 1;
 };
 
 struct MeshResult {
     std::size_t particles = 0;
     float radius = 0;
-    std::uint32_t groups = 0, isolated = 0;
+    std::uint32_t groups = 0, isolated = 0;                // scan
+    float voxel = 0, rc = 0, iso = 0;                      // slices
+    std::uint32_t blocks = 0;                              // slices: non-empty blocks
     double total_ms = 0;                                   // median graph wall time
     std::vector<std::pair<std::string, double>> stage_ms;  // medians
     TriangleMesh mesh;

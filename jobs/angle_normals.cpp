@@ -1,0 +1,44 @@
+#include "jobs/angle_normals.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rivulet {
+
+void accumulate_angle_normals(std::span<const float> p, std::span<const std::uint32_t> tri,
+                              std::span<float> acc) {
+    std::fill(acc.begin(), acc.end(), 0.0f);
+    for (std::size_t t = 0; t + 2 < tri.size(); t += 3) {
+        const std::uint32_t v[3] = {tri[t], tri[t + 1], tri[t + 2]};
+        const float* q[3] = {&p[std::size_t(v[0]) * 3], &p[std::size_t(v[1]) * 3], &p[std::size_t(v[2]) * 3]};
+        const float e1[3] = {q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
+        const float e2[3] = {q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
+        const float c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                            e1[0] * e2[1] - e1[1] * e2[0]};
+        const float len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        if (!(len > 0.0f)) continue;
+        const float nrm[3] = {c[0] / len, c[1] / len, c[2] / len};
+        for (int a = 0; a < 3; ++a) {
+            const float* o = q[a];
+            const float* b = q[(a + 1) % 3];
+            const float* d = q[(a + 2) % 3];
+            const float u[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
+            const float w[3] = {d[0] - o[0], d[1] - o[1], d[2] - o[2]};
+            // |u x w| is twice the area at every corner: the angle is atan2(2 area, u . w).
+            const float angle = std::atan2(len, u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
+            float* out = &acc[std::size_t(v[a]) * 3];
+            out[0] += angle * nrm[0], out[1] += angle * nrm[1], out[2] += angle * nrm[2];
+        }
+    }
+}
+
+void normalize_or_up(float* n) {
+    const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len > 0.0f) {
+        n[0] /= len, n[1] /= len, n[2] /= len;
+    } else {
+        n[0] = 0.0f, n[1] = 1.0f, n[2] = 0.0f;
+    }
+}
+
+}  // namespace rivulet

@@ -1,0 +1,202 @@
+#include "jobs/marching_slices.h"
+
+#include <algorithm>
+
+#include "jobs/marching_tables.h"
+
+namespace rivulet {
+
+BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
+                            float iso, const LookupCacheView& cache, ConstPositions particles,
+                            const SliceScratch& s, const BlockMeshOut& out) {
+    const MarchingTables& mt = marching_tables();
+    const SliceKernel f = SliceKernel::from_rc(g.rc);
+    const std::uint32_t n = g.n, n1 = n + 1, cols = n1 * n1;
+    const std::int32_t i0 = static_cast<std::int32_t>(bi * n), j0 = static_cast<std::int32_t>(bj * n),
+                       k0 = static_cast<std::int32_t>(bk * n);
+    BlockSweepStats st;
+
+    std::uint32_t gen = ++*s.generation;
+    if (gen == 0) {  // stamps wrapped: clear them once
+        std::fill(s.cube_stamp.begin(), s.cube_stamp.end(), 0u);
+        std::fill(s.edge_stamp.begin(), s.edge_stamp.end(), 0u);
+        gen = *s.generation = 1;
+    }
+
+    auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+        const std::int32_t gi = i0 + static_cast<std::int32_t>(i), gj = j0 + static_cast<std::int32_t>(j),
+                           gk = k0 + static_cast<std::int32_t>(k);
+        return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f);
+    };
+
+    // ---- per-slab todo lists ----
+    std::fill(s.todo_count.begin(), s.todo_count.end(), 0u);
+    std::uint32_t lowest = n;  // lowest slab that may hold work
+    auto push = [&](std::int32_t i, std::int32_t j, std::int32_t k) {
+        if (i < 0 || j < 0 || k < 0 || i >= std::int32_t(n) || j >= std::int32_t(n) || k >= std::int32_t(n))
+            return;
+        const std::uint32_t slab = static_cast<std::uint32_t>(k);
+        const std::uint32_t in_slab = static_cast<std::uint32_t>(j) * n + static_cast<std::uint32_t>(i);
+        const std::uint32_t c = slab * n * n + in_slab;
+        if (s.cube_stamp[c] == gen) return;
+        s.cube_stamp[c] = gen;
+        s.todo[std::size_t(slab) * n * n + s.todo_count[slab]++] = in_slab;
+        lowest = std::min(lowest, slab);
+    };
+
+    // ---- seeds 1: walk down from each particle's nearest corner ----
+    std::fill(s.walk_lo.begin(), s.walk_lo.end(), 0);
+    std::fill(s.walk_hi.begin(), s.walk_hi.end(), -1);
+    for (std::size_t q = 0; q < particles.size(); ++q) {
+        const std::int32_t li = SliceGrid::cell(particles.x[q] + 0.5f * g.voxel, g.ox, g.voxel) - i0;
+        const std::int32_t lj = SliceGrid::cell(particles.y[q] + 0.5f * g.voxel, g.oy, g.voxel) - j0;
+        std::int32_t lk = SliceGrid::cell(particles.z[q] + 0.5f * g.voxel, g.oz, g.voxel) - k0;
+        if (li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n)) continue;
+        lk = std::min(lk, std::int32_t(n));
+        const std::uint32_t col = static_cast<std::uint32_t>(lj) * n1 + static_cast<std::uint32_t>(li);
+        std::int32_t& run_lo = s.walk_lo[col];
+        std::int32_t& run_hi = s.walk_hi[col];
+        if (lk >= run_lo && lk <= run_hi) continue;  // inside a run already walked
+        const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
+        if (field(ui, uj, static_cast<std::uint32_t>(lk)) < iso) continue;
+        std::int32_t k = lk - 1;
+        for (; k >= 0; --k) {
+            if (k >= run_lo && k <= run_hi) break;
+            if (field(ui, uj, static_cast<std::uint32_t>(k)) < iso) break;
+        }
+        if (k >= 0 && k >= run_lo && k <= run_hi) {  // joined the known run: same crossing below
+            run_hi = std::max(run_hi, lk);
+            continue;
+        }
+        run_lo = k + 1, run_hi = lk;
+        if (k < 0) continue;  // left through the block bottom: the face scan covers it
+        for (std::int32_t dj = -1; dj <= 0; ++dj)
+            for (std::int32_t di = -1; di <= 0; ++di) push(li + di, lj + dj, k);
+        ++st.seeds;
+    }
+
+    // ---- seeds 2: every block face the surface can cross ----
+    const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};
+    for (std::uint32_t a = 0; a < 3; ++a)
+        for (std::uint32_t side = 0; side < 2; ++side) {
+            if (side == 0 && bidx[a] == 0) continue;          // outer grid face: no surface there
+            if (side == 1 && bidx[a] + 1 == nb[a]) continue;  // likewise
+            const std::uint32_t u = (a + 1) % 3, w = (a + 2) % 3;
+            std::uint32_t c[3];
+            c[a] = side * n;
+            for (std::uint32_t cw = 0; cw <= n; ++cw)
+                for (std::uint32_t cu = 0; cu <= n; ++cu) {
+                    c[u] = cu, c[w] = cw;
+                    s.faces[cw * n1 + cu] = field(c[0], c[1], c[2]);
+                }
+            for (std::uint32_t cw = 0; cw < n; ++cw)
+                for (std::uint32_t cu = 0; cu < n; ++cu) {
+                    const bool i00 = s.faces[cw * n1 + cu] >= iso, i10 = s.faces[cw * n1 + cu + 1] >= iso,
+                               i01 = s.faces[(cw + 1) * n1 + cu] >= iso,
+                               i11 = s.faces[(cw + 1) * n1 + cu + 1] >= iso;
+                    if (i00 == i10 && i00 == i01 && i00 == i11) continue;
+                    std::int32_t cube[3];
+                    cube[a] = side ? std::int32_t(n) - 1 : 0;
+                    cube[u] = std::int32_t(cu), cube[w] = std::int32_t(cw);
+                    push(cube[0], cube[1], cube[2]);
+                    ++st.seeds;
+                }
+        }
+
+    // ---- slice caches ----
+    std::int32_t free_count = static_cast<std::int32_t>(n1);
+    for (std::uint32_t k = 0; k < n1; ++k) s.slice_slot[k] = -1, s.free_slots[k] = std::int32_t(k);
+    std::uint32_t live = 0, lowest_live = n1;
+    auto slice = [&](std::uint32_t k) -> float* {
+        std::int32_t slot = s.slice_slot[k];
+        if (slot < 0) {
+            slot = s.free_slots[--free_count];
+            s.slice_slot[k] = slot;
+            float* v = s.slices.data() + std::size_t(slot) * cols;
+            std::fill(v, v + cols, -1.0f);  // F >= 0: negative means not computed yet
+            ++st.slice_fills;
+            st.peak_slices = std::max(st.peak_slices, ++live);
+            lowest_live = std::min(lowest_live, k);
+        }
+        return s.slices.data() + std::size_t(slot) * cols;
+    };
+    auto release_below = [&](std::uint32_t k) {
+        for (; lowest_live < k; ++lowest_live)
+            if (s.slice_slot[lowest_live] >= 0) {
+                s.free_slots[free_count++] = s.slice_slot[lowest_live];
+                s.slice_slot[lowest_live] = -1;
+                --live;
+            }
+    };
+
+    // ---- the sweep ----
+    const std::uint32_t max_vertices =
+        static_cast<std::uint32_t>(std::min(out.positions.size() / 3, out.keys.size()));
+    const std::uint32_t max_triangles = static_cast<std::uint32_t>(out.triangles.size() / 3);
+    for (;;) {
+        while (lowest < n && s.todo_count[lowest] == 0) ++lowest;
+        if (lowest == n) break;
+        const std::uint32_t k = lowest;
+        release_below(k);
+        const std::uint32_t in_slab = s.todo[std::size_t(k) * n * n + --s.todo_count[k]];
+        const std::uint32_t i = in_slab % n, j = in_slab / n;
+        ++st.cubes;
+
+        float* lower = slice(k);
+        float* upper = slice(k + 1);
+        float v[8];
+        unsigned mask = 0;
+        for (unsigned c = 0; c < 8; ++c) {
+            const std::uint32_t ci = i + (c & 1u), cj = j + ((c >> 1) & 1u), ck = k + ((c >> 2) & 1u);
+            float& slot = (ck == k ? lower : upper)[cj * n1 + ci];
+            if (slot < 0.0f) slot = field(ci, cj, ck);
+            v[c] = slot;
+            if (v[c] >= iso) mask |= 1u << c;
+        }
+        const std::uint32_t ntri = mt.triangle_count[mask];
+        if (st.triangles + ntri > max_triangles) {
+            st.overflow = true;
+            return st;
+        }
+        for (std::uint32_t t = 0; t < ntri * 3; ++t) {
+            const std::uint32_t e = static_cast<std::uint32_t>(mt.triangles[mask][t]);
+            const std::uint32_t axis = mt.edge_axis[e], lc = mt.edge_corner[e][0], hc = mt.edge_corner[e][1];
+            const std::uint32_t li = i + (lc & 1u), lj = j + ((lc >> 1) & 1u), lk = k + ((lc >> 2) & 1u);
+            const std::size_t ek = ((std::size_t(lk) * n1 + lj) * n1 + li) * 3 + axis;
+            std::uint32_t vid;
+            if (s.edge_stamp[ek] == gen) {
+                vid = s.edge_vertex[ek];
+            } else {
+                if (st.vertices == max_vertices) {
+                    st.overflow = true;
+                    return st;
+                }
+                vid = st.vertices++;
+                s.edge_stamp[ek] = gen;
+                s.edge_vertex[ek] = vid;
+                const std::int32_t gi = i0 + std::int32_t(li), gj = j0 + std::int32_t(lj),
+                                   gk = k0 + std::int32_t(lk);
+                float p[3] = {g.cx(gi), g.cy(gj), g.cz(gk)};
+                p[axis] = edge_crossing(p[axis], g.voxel, v[lc], v[hc], iso);
+                out.positions[std::size_t(vid) * 3 + 0] = p[0];
+                out.positions[std::size_t(vid) * 3 + 1] = p[1];
+                out.positions[std::size_t(vid) * 3 + 2] = p[2];
+                out.keys[vid] = edge_key(static_cast<std::uint32_t>(gi), static_cast<std::uint32_t>(gj),
+                                         static_cast<std::uint32_t>(gk), axis);
+            }
+            out.triangles[std::size_t(st.triangles) * 3 + t] = vid;
+        }
+        st.triangles += ntri;
+        // Follow the surface across every face it crosses.
+        for (std::uint32_t face = 0; face < 6; ++face) {
+            const unsigned fm = mt.face_corners[face], m = mask & fm;
+            if (m == 0 || m == fm) continue;
+            std::int32_t c[3] = {std::int32_t(i), std::int32_t(j), std::int32_t(k)};
+            c[face / 2] += (face & 1u) ? 1 : -1;
+            push(c[0], c[1], c[2]);
+        }
+    }
+    return st;
+}
+
+}  // namespace rivulet

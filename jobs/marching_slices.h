@@ -1,0 +1,75 @@
+#pragma once
+// Surface-following marching cubes inside one block ("marching slices", Rosenberg & Birdwell 2008, seed
+// 004 §3.2.3). The block's n^3 cubes form n slabs between n+1 slices (planes of constant z). Each slab
+// has a todo list of cubes to visit; the sweep always takes a cube from the lowest slab whose list is not
+// empty, polygonises it and queues every neighbour across a face the surface crosses. Corner values live
+// in slice caches that are taken from a small pool when a slab first needs them and given back as soon
+// as the sweep has moved above them (recomputed, identically, should the surface lead back down).
+//
+// Seeds, all found before the sweep:
+//  1. the O(P) heuristic: from the corner nearest each particle's centre, walk down the column to the
+//     first outside corner; the cubes around that crossing are seeds (a per-column memo of the inside
+//     run already walked keeps this linear). Particles above the block start at its top slice.
+//  2. completeness: the heuristic finds a piece of surface below each particle, but not every piece that
+//     lies in this block (e.g. the top of a body whose bottom is in a lower block, or a piece the walk
+//     never meets); so every face of the block that can carry surface (not on the grid's outer
+//     boundary) is scanned and every face cell the surface crosses seeds its cube. With (1) this finds
+//     every surface piece that meets a block face or encloses a particle centre inside the block. The
+//     sweep follows the surface both up and down, so seeds need not be local minima.
+//
+// Vertices are shared within the block through an edge table; each carries its global edge key so the
+// extractor can weld block borders.
+#include <cstdint>
+#include <span>
+
+#include "jobs/lookup_cache.h"
+#include "jobs/particle_spans.h"
+#include "jobs/slice_field.h"
+
+namespace rivulet {
+
+// Scratch of one block sweep, for block edge n (sizes in comments); reusable across blocks.
+struct SliceScratch {
+    std::span<float> slices;                   // (n+1) * (n+1)^2: slice cache pool
+    std::span<std::int32_t> slice_slot;        // n+1: pool slot of each slice, -1 when released
+    std::span<std::int32_t> free_slots;        // n+1
+    std::span<float> faces;                    // (n+1)^2: one block face at a time
+    std::span<std::uint32_t> cube_stamp;       // n^3
+    std::span<std::uint32_t> edge_stamp;       // 3 (n+1)^3
+    std::span<std::uint32_t> edge_vertex;      // 3 (n+1)^3
+    std::span<std::uint32_t> todo;             // n * n^2: per-slab todo lists
+    std::span<std::uint32_t> todo_count;       // n
+    std::span<std::int32_t> walk_lo, walk_hi;  // (n+1)^2: inside run already walked per column
+    std::uint32_t* generation;                 // stamps equal to *generation are live; starts at 0
+};
+
+struct BlockMeshOut {
+    std::span<float> positions;  // 3 per vertex
+    std::span<std::uint64_t> keys;
+    std::span<std::uint32_t> triangles;  // 3 per triangle, block-local vertex indices
+};
+
+struct BlockSweepStats {
+    std::uint32_t vertices = 0, triangles = 0;
+    std::uint32_t seeds = 0, cubes = 0, slice_fills = 0, peak_slices = 0;
+    bool overflow = false;  // the output spans were too small: nothing usable, grow and run again
+};
+
+// Scratch sizes for block edge n.
+struct SliceScratchSizes {
+    std::size_t slices, slots, faces, cubes, edges, todo, columns;
+    explicit SliceScratchSizes(std::uint32_t n)
+        : slices(std::size_t(n + 1) * (n + 1) * (n + 1)),
+          slots(n + 1),
+          faces(std::size_t(n + 1) * (n + 1)),
+          cubes(std::size_t(n) * n * n),
+          edges(3 * std::size_t(n + 1) * (n + 1) * (n + 1)),
+          todo(std::size_t(n) * n * n),
+          columns(std::size_t(n + 1) * (n + 1)) {}
+};
+
+BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
+                            float iso, const LookupCacheView& cache, ConstPositions particles,
+                            const SliceScratch& scratch, const BlockMeshOut& out);
+
+}  // namespace rivulet

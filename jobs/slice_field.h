@@ -1,0 +1,73 @@
+#pragma once
+// The marching-slices scalar field (seed 004 §3.2.1, eq. 3.4-3.5) and the global corner grid it is
+// sampled on. Header-only so the extractor and the test oracle evaluate bit-identical values.
+//
+//   F(p) = sum over particles s with |s - p| < R_c of f(|s - p|),
+//   f(r) = (r / (sqrt(2) R_c))^4 - (r / (sqrt(2) R_c))^2 + 0.25 = (q - 1/2)^2 with q = r^2 / (2 R_c^2),
+//
+// which falls monotonically from 0.25 at the centre to 0 at R_c. Inside the fluid is F >= iso.
+#include <cmath>
+#include <cstdint>
+
+namespace rivulet {
+
+struct SliceKernel {
+    float rc2 = 1;         // R_c^2
+    float inv_2rc2 = 0.5;  // 1 / (2 R_c^2)
+
+    static SliceKernel from_rc(float rc) { return {rc * rc, 1.0f / (2.0f * rc * rc)}; }
+    // f at squared distance r2 (zero at and beyond R_c).
+    float operator()(float r2) const {
+        if (!(r2 < rc2)) return 0.0f;
+        const float q = r2 * inv_2rc2 - 0.5f;
+        return q * q;
+    }
+};
+
+// The corner lattice shared by every block: corner (i, j, k) lies at origin + voxel * (i, j, k), computed
+// the same way everywhere so corners on a block border get identical positions in both blocks.
+struct SliceGrid {
+    float ox = 0, oy = 0, oz = 0;  // corner (0, 0, 0)
+    float voxel = 1;
+    float rc = 1;
+    std::uint32_t n = 16;                  // cubes per block edge
+    std::uint32_t bx = 0, by = 0, bz = 0;  // blocks per axis
+    // Conservative reach of one particle in corners: every corner within R_c of it lies in
+    // [floor((p - o) / voxel) - reach, floor((p - o) / voxel) + reach + 1].
+    std::int32_t reach = 1;
+
+    float cx(std::int32_t i) const { return ox + voxel * static_cast<float>(i); }
+    float cy(std::int32_t j) const { return oy + voxel * static_cast<float>(j); }
+    float cz(std::int32_t k) const { return oz + voxel * static_cast<float>(k); }
+    std::uint32_t blocks() const { return bx * by * bz; }
+    std::uint32_t corners_x() const { return bx * n + 1; }
+    std::uint32_t corners_y() const { return by * n + 1; }
+    std::uint32_t corners_z() const { return bz * n + 1; }
+    // The cube (slab) index of coordinate p along one axis.
+    static std::int32_t cell(float p, float o, float voxel) {
+        return static_cast<std::int32_t>(std::floor((p - o) / voxel));
+    }
+};
+
+// Global key of the cube edge starting at corner (i, j, k) along `axis` (0 x, 1 y, 2 z); keys are unique
+// while every corner index stays below 2^21.
+inline std::uint64_t edge_key(std::uint32_t i, std::uint32_t j, std::uint32_t k, std::uint32_t axis) {
+    return ((std::uint64_t(k) << 42 | std::uint64_t(j) << 21 | std::uint64_t(i)) << 2) | axis;
+}
+inline void edge_key_corner(std::uint64_t key, std::uint32_t& i, std::uint32_t& j, std::uint32_t& k,
+                            std::uint32_t& axis) {
+    axis = static_cast<std::uint32_t>(key & 3u);
+    const std::uint64_t c = key >> 2;
+    i = static_cast<std::uint32_t>(c & 0x1fffffu);
+    j = static_cast<std::uint32_t>((c >> 21) & 0x1fffffu);
+    k = static_cast<std::uint32_t>(c >> 42);
+}
+
+// Vertex on the edge from corner a (value fa) to corner b = a + voxel along the axis (value fb); exactly
+// one of fa, fb is >= iso. Returns the coordinate along the axis.
+inline float edge_crossing(float a, float voxel, float fa, float fb, float iso) {
+    const float t = (iso - fa) / (fb - fa);
+    return a + t * voxel;
+}
+
+}  // namespace rivulet

@@ -1,0 +1,23 @@
+#pragma once
+// The marching-slices jobs of a frame graph (seed 004 §3.2), shared by `mesh` (alone) and, later, `run`.
+// See SlicesExtractor for what each job does. Job names carry the `slices.` prefix:
+//   slices.begin -> slices.count* -> slices.prefix -> slices.scatter* -> slices.blocks* -> slices.offsets
+//   -> slices.weld* -> slices.normals* -> slices.stage                              (* = parallel items)
+#include <functional>
+#include <initializer_list>
+
+#include "runtime/lib/frame_graph.h"
+#include "systems/slices/slices_extractor.h"
+
+namespace rivulet {
+
+struct SlicesJobIds {
+    FrameGraph::JobId begin, count, prefix, scatter, blocks, offsets, weld, normals, stage;
+};
+
+// `positions` and `output` are asked when each job runs, so they may change between frames (slots).
+SlicesJobIds add_slices_jobs(FrameGraph& graph, SlicesExtractor& slices,
+                             std::function<ConstPositions()> positions, std::function<SurfaceMesh&()> output,
+                             std::initializer_list<FrameGraph::JobId> after = {});
+
+}  // namespace rivulet

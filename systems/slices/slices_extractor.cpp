@@ -1,0 +1,357 @@
+#include "systems/slices/slices_extractor.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "jobs/angle_normals.h"
+#include "jobs/bin_sort.h"
+#include "jobs/block_bins.h"
+
+namespace rivulet {
+namespace {
+
+constexpr std::uint32_t kForeign = std::numeric_limits<std::uint32_t>::max();
+
+// Grows `a` to hold `n` (rare; allocates), without keeping its contents.
+template <class T>
+void ensure(AlignedArray<T>& a, std::size_t n) {
+    if (n > a.capacity()) a.reserve(std::max(n, a.capacity() + a.capacity() / 2));
+}
+
+}  // namespace
+
+struct SlicesExtractor::Scratch {
+    AlignedArray<std::uint32_t> order, sort_counts, column_offsets;
+    AlignedArray<ColumnEntry> entries;
+    AlignedArray<float> slices, faces;
+    AlignedArray<std::int32_t> slice_slot, free_slots, walk_lo, walk_hi;
+    AlignedArray<std::uint32_t> cube_stamp, edge_stamp, edge_vertex, todo, todo_count;
+    std::uint32_t generation = 0;
+
+    explicit Scratch(const SliceGrid& g) {
+        const SliceScratchSizes z(g.n);
+        sort_counts.reserve(lookup_sort_slots(g));
+        column_offsets.reserve(z.columns + 1);
+        slices.reserve(z.slices), faces.reserve(z.faces);
+        slice_slot.reserve(z.slots), free_slots.reserve(z.slots);
+        walk_lo.reserve(z.columns), walk_hi.reserve(z.columns);
+        cube_stamp.reserve(z.cubes), edge_stamp.reserve(z.edges), edge_vertex.reserve(z.edges);
+        std::fill(cube_stamp.data(), cube_stamp.data() + z.cubes, 0u);
+        std::fill(edge_stamp.data(), edge_stamp.data() + z.edges, 0u);
+        todo.reserve(z.todo), todo_count.reserve(g.n);
+    }
+    SliceScratch view(const SliceGrid& g) {
+        const SliceScratchSizes z(g.n);
+        return {slices.span(z.slices),     slice_slot.span(z.slots), free_slots.span(z.slots),
+                faces.span(z.faces),       cube_stamp.span(z.cubes), edge_stamp.span(z.edges),
+                edge_vertex.span(z.edges), todo.span(z.todo),        todo_count.span(g.n),
+                walk_lo.span(z.columns),   walk_hi.span(z.columns),  &generation};
+    }
+};
+
+SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max_particles)
+    : settings_(settings), max_particles_(max_particles) {
+    if (const std::string err = settings.validate(); !err.empty()) throw std::invalid_argument(err);
+    if (max_particles == 0 || max_particles > (std::size_t(1) << 28))
+        throw std::invalid_argument(
+            fmt::format("particle capacity must be in [1, 2^28], got {}", max_particles));
+    rc_ = settings.rc();
+    iso_ = settings.iso_value();
+    voxel_ = settings.voxel_size();
+    grid_.voxel = voxel_;
+    grid_.rc = rc_;
+    grid_.n = settings.block_cubes;
+    grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ / voxel_)) + 1;
+}
+
+SlicesExtractor::~SlicesExtractor() = default;
+
+SlicesExtractor::Scratch& SlicesExtractor::acquire_scratch() {
+    std::lock_guard<std::mutex> lock(scratch_mutex_);
+    if (free_scratch_.empty()) {  // one per concurrently running block: grows to the thread count once
+        scratch_.push_back(std::make_unique<Scratch>(grid_));
+        free_scratch_.reserve(scratch_.size());
+        return *scratch_.back();
+    }
+    Scratch* s = free_scratch_.back();
+    free_scratch_.pop_back();
+    return *s;
+}
+
+void SlicesExtractor::release_scratch(Scratch& s) {
+    std::lock_guard<std::mutex> lock(scratch_mutex_);
+    free_scratch_.push_back(&s);
+}
+
+void SlicesExtractor::begin_frame(ConstPositions p) {
+    if (p.size() > max_particles_)
+        throw std::length_error(
+            fmt::format("marching slices capacity {} exceeded by {} particles", max_particles_, p.size()));
+    particles_ = p.size();
+    chunks_ = static_cast<std::uint32_t>((particles_ + kChunk - 1) / kChunk);
+    stats_ = {};
+    active_count_ = 0;
+    entries_ = 0;
+    if (particles_ == 0) {
+        grid_.bx = grid_.by = grid_.bz = 0;
+        return;
+    }
+    float lo[3] = {p.x[0], p.y[0], p.z[0]}, hi[3] = {lo[0], lo[1], lo[2]};
+    const std::span<const float> axes[3] = {p.x, p.y, p.z};
+    for (int a = 0; a < 3; ++a)
+        for (std::size_t i = 0; i < particles_; ++i) {
+            const float v = axes[a][i];
+            if (!std::isfinite(v))
+                throw std::invalid_argument(fmt::format("particle {} has a non-finite coordinate", i));
+            lo[a] = std::min(lo[a], v), hi[a] = std::max(hi[a], v);
+        }
+    float origin[3];
+    std::uint32_t nb[3];
+    for (int a = 0; a < 3; ++a) {
+        const double first = std::floor(double(lo[a]) / voxel_), last = std::floor(double(hi[a]) / voxel_);
+        const double cells = last - first + 2.0 * grid_.reach + 6.0;
+        if (cells > settings_.max_grid_cubes)
+            throw std::length_error(
+                fmt::format("marching slices grid needs {} cubes along an axis (limit {}): raise --voxel",
+                            cells, settings_.max_grid_cubes));
+        origin[a] = static_cast<float>((first - grid_.reach - 2.0) * voxel_);
+        nb[a] = static_cast<std::uint32_t>(std::ceil(cells / grid_.n));
+    }
+    grid_.ox = origin[0], grid_.oy = origin[1], grid_.oz = origin[2];
+    grid_.bx = nb[0], grid_.by = nb[1], grid_.bz = nb[2];
+    const std::uint64_t blocks = std::uint64_t(nb[0]) * nb[1] * nb[2];
+    if (blocks * chunks_ > (std::uint64_t(1) << 28))
+        throw std::length_error(fmt::format(
+            "marching slices grid of {} blocks is too sparse for {} particles: raise --voxel or --block",
+            blocks, particles_));
+    ensure(chunk_counts_, std::size_t(blocks) * chunks_);
+    ensure(chunk_cursors_, std::size_t(blocks) * chunks_);
+    ensure(block_offsets_, std::size_t(blocks) + 1);
+    ensure(active_, std::size_t(blocks));
+    ensure(block_to_active_, std::size_t(blocks));
+    stats_.blocks = static_cast<std::uint32_t>(blocks);
+}
+
+void SlicesExtractor::block_count(ConstPositions p, std::uint32_t chunk) {
+    const std::size_t begin = std::size_t(chunk) * kChunk, n = std::min(particles_, begin + kChunk) - begin;
+    const std::size_t blocks = grid_.blocks();
+    block_count_chunk(grid_, {p.x.subspan(begin, n), p.y.subspan(begin, n), p.z.subspan(begin, n)},
+                      chunk_counts_.span(std::size_t(chunks_) * blocks).subspan(chunk * blocks, blocks));
+}
+
+void SlicesExtractor::block_prefix() {
+    const std::uint32_t blocks = grid_.blocks();
+    if (particles_ == 0) return;
+    const std::uint64_t listed = [&] {
+        std::uint64_t t = 0;
+        for (std::size_t i = 0; i < std::size_t(blocks) * chunks_; ++i) t += chunk_counts_[i];
+        return t;
+    }();
+    if (listed > (std::uint64_t(1) << 31))
+        throw std::length_error("marching slices: more than 2^31 particle-in-block listings");
+    entries_ =
+        bin_prefix(blocks, chunks_, chunk_counts_.span(std::size_t(blocks) * chunks_),
+                   chunk_cursors_.span(std::size_t(blocks) * chunks_), block_offsets_.span(blocks + 1));
+    ensure(block_entries_, entries_);
+    ensure(entry_x_, entries_), ensure(entry_y_, entries_), ensure(entry_z_, entries_);
+    std::uint32_t active = 0;
+    for (std::uint32_t b = 0; b < blocks; ++b) {
+        if (block_offsets_[b + 1] == block_offsets_[b]) {
+            block_to_active_[b] = -1;
+            continue;
+        }
+        block_to_active_[b] = static_cast<std::int32_t>(active);
+        active_[active++] = b;
+    }
+    if (active > settings_.max_blocks)
+        throw std::length_error(fmt::format(
+            "marching slices: {} non-empty blocks exceed the limit of {} (raise --block or max_blocks)",
+            active, settings_.max_blocks));
+    if (slots_.size() < active) slots_.resize(active);  // rare: the most blocks seen so far
+    active_count_ = active;
+    stats_.active_blocks = active;
+    stats_.block_entries = entries_;
+}
+
+void SlicesExtractor::block_scatter(ConstPositions p, std::uint32_t chunk) {
+    const std::size_t begin = std::size_t(chunk) * kChunk, n = std::min(particles_, begin + kChunk) - begin;
+    const std::size_t blocks = grid_.blocks();
+    block_scatter_chunk(grid_, {p.x.subspan(begin, n), p.y.subspan(begin, n), p.z.subspan(begin, n)},
+                        static_cast<std::uint32_t>(begin),
+                        chunk_cursors_.span(std::size_t(chunks_) * blocks).subspan(chunk * blocks, blocks),
+                        {block_entries_.span(entries_), entry_x_.span(entries_), entry_y_.span(entries_),
+                         entry_z_.span(entries_)});
+}
+
+std::uint32_t SlicesExtractor::owner_of(std::uint64_t key) const {
+    std::uint32_t i = 0, j = 0, k = 0, axis = 0;
+    edge_key_corner(key, i, j, k, axis);
+    const std::uint32_t oi = std::min(i / grid_.n, grid_.bx - 1), oj = std::min(j / grid_.n, grid_.by - 1),
+                        ok = std::min(k / grid_.n, grid_.bz - 1);
+    return (ok * grid_.by + oj) * grid_.bx + oi;
+}
+
+void SlicesExtractor::extract_block(std::uint32_t item) {
+    const std::uint32_t b = active_[item];
+    const std::uint32_t bi = b % grid_.bx, bj = (b / grid_.bx) % grid_.by, bk = b / (grid_.bx * grid_.by);
+    const std::uint32_t first = block_offsets_[b], np = block_offsets_[b + 1] - first;
+    const ConstPositions particles{entry_x_.span(entries_).subspan(first, np),
+                                   entry_y_.span(entries_).subspan(first, np),
+                                   entry_z_.span(entries_).subspan(first, np)};
+    Scratch& s = acquire_scratch();
+    struct Release {
+        SlicesExtractor* self;
+        Scratch& s;
+        ~Release() { self->release_scratch(s); }
+    } release{this, s};
+
+    // Lookup cache (grown and rebuilt if this block lists more column entries than ever before).
+    ensure(s.order, np);
+    const std::size_t cols = std::size_t(grid_.n + 1) * (grid_.n + 1);
+    const LookupScratch ls{s.order.span(np), s.sort_counts.span(lookup_sort_slots(grid_))};
+    std::uint32_t need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(cols + 1),
+                                            s.entries.span(s.entries.capacity()));
+    if (need > s.entries.capacity()) {
+        ensure(s.entries, need);
+        need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(cols + 1),
+                                  s.entries.span(s.entries.capacity()));
+    }
+    const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach + 1};
+
+    // The sweep (run again with more room in the rare case the block's mesh outgrew its buffers).
+    BlockSlot& slot = slots_[item];
+    const SliceScratch scratch = s.view(grid_);
+    for (;;) {
+        if (slot.positions.capacity() == 0) {
+            slot.positions.reserve(3 * 1024), slot.keys.reserve(1024), slot.triangles.reserve(3 * 2048);
+        }
+        slot.sweep =
+            march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
+                        {slot.positions.span(slot.positions.capacity()), slot.keys.span(slot.keys.capacity()),
+                         slot.triangles.span(slot.triangles.capacity())});
+        if (!slot.sweep.overflow) break;
+        slot.positions.reserve(slot.positions.capacity() * 2), slot.keys.reserve(slot.keys.capacity() * 2);
+        slot.triangles.reserve(slot.triangles.capacity() * 2);
+    }
+    slot.vertices = slot.sweep.vertices;
+    slot.triangles_n = slot.sweep.triangles;
+
+    // Ownership: rank the vertices this block owns; list those on its min faces for the neighbours.
+    ensure(slot.rank, slot.vertices), ensure(slot.final_index, slot.vertices),
+        ensure(slot.border, slot.vertices);
+    ensure(slot.acc, std::size_t(slot.vertices) * 3);
+    std::uint32_t owned = 0, border = 0;
+    for (std::uint32_t v = 0; v < slot.vertices; ++v) {
+        const std::uint64_t key = slot.keys[v];
+        if (owner_of(key) != b) {
+            slot.rank[v] = kForeign;
+            continue;
+        }
+        slot.rank[v] = owned;
+        std::uint32_t i = 0, j = 0, k = 0, axis = 0;
+        edge_key_corner(key, i, j, k, axis);
+        const bool on_min = (axis != 0 && i % grid_.n == 0) || (axis != 1 && j % grid_.n == 0) ||
+                            (axis != 2 && k % grid_.n == 0);
+        if (on_min) slot.border[border++] = {key, owned};
+        ++owned;
+    }
+    std::sort(slot.border.data(), slot.border.data() + border,
+              [](const BorderEntry& x, const BorderEntry& y) { return x.key < y.key; });
+    slot.owned = owned;
+    slot.border_n = border;
+}
+
+void SlicesExtractor::weld_offsets(SurfaceMesh& out) {
+    std::uint64_t vertices = 0, triangles = 0;
+    for (std::uint32_t a = 0; a < active_count_; ++a) {
+        BlockSlot& s = slots_[a];
+        s.vertex_offset = vertices, s.triangle_offset = triangles;
+        vertices += s.owned, triangles += s.triangles_n;
+        stats_.seeds += s.sweep.seeds, stats_.cubes += s.sweep.cubes,
+            stats_.slice_fills += s.sweep.slice_fills;
+        stats_.peak_slices = std::max(stats_.peak_slices, s.sweep.peak_slices);
+    }
+    if (triangles > settings_.max_triangles)
+        throw std::length_error(fmt::format("marching slices: {} triangles exceed the limit of {}", triangles,
+                                            settings_.max_triangles));
+    if (vertices >= std::numeric_limits<std::uint32_t>::max())
+        throw std::length_error("marching slices: more than 2^32 vertices");
+    ensure(out.vertices6, std::size_t(vertices) * 6);
+    ensure(out.indices, std::size_t(triangles) * 3);
+    out.vertex_count = vertices;
+    out.index_count = triangles * 3;
+    stats_.vertices = vertices, stats_.triangles = triangles;
+}
+
+void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
+    BlockSlot& s = slots_[item];
+    float* verts = out.vertices6.data();
+    for (std::uint32_t v = 0; v < s.vertices; ++v) {
+        if (s.rank[v] != kForeign) {
+            const std::uint64_t f = s.vertex_offset + s.rank[v];
+            s.final_index[v] = static_cast<std::uint32_t>(f);
+            for (int c = 0; c < 3; ++c)
+                verts[f * 6 + std::size_t(c)] = s.positions[std::size_t(v) * 3 + std::size_t(c)];
+            continue;
+        }
+        const std::uint64_t key = s.keys[v];
+        const std::int32_t owner = block_to_active_[owner_of(key)];
+        const BlockSlot* o = owner >= 0 ? &slots_[std::size_t(owner)] : nullptr;
+        const BorderEntry* it = nullptr;
+        if (o) {
+            it = std::lower_bound(o->border.data(), o->border.data() + o->border_n, key,
+                                  [](const BorderEntry& e, std::uint64_t k) { return e.key < k; });
+            if (it == o->border.data() + o->border_n || it->key != key) it = nullptr;
+        }
+        if (!it)
+            throw std::logic_error(fmt::format(
+                "marching slices: block {} refers to a border vertex its owner block did not produce",
+                active_[item]));
+        s.final_index[v] = static_cast<std::uint32_t>(o->vertex_offset + it->rank);
+    }
+    std::uint32_t* idx = out.indices.data() + s.triangle_offset * 3;
+    for (std::size_t t = 0; t < std::size_t(s.triangles_n) * 3; ++t) idx[t] = s.final_index[s.triangles[t]];
+}
+
+void SlicesExtractor::normals_block(std::uint32_t item, SurfaceMesh& out) {
+    BlockSlot& s = slots_[item];
+    accumulate_angle_normals(s.positions.span(std::size_t(s.vertices) * 3),
+                             s.triangles.span(std::size_t(s.triangles_n) * 3),
+                             s.acc.span(std::size_t(s.vertices) * 3));
+    float* verts = out.vertices6.data();
+    for (std::uint32_t v = 0; v < s.vertices; ++v) {
+        if (s.rank[v] == kForeign) continue;
+        const std::size_t f = s.final_index[v];
+        for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] = s.acc[std::size_t(v) * 3 + c];
+    }
+}
+
+void SlicesExtractor::stage(SurfaceMesh& out) {
+    float* verts = out.vertices6.data();
+    for (std::uint32_t a = 0; a < active_count_; ++a) {  // border contributions, in block order
+        const BlockSlot& s = slots_[a];
+        for (std::uint32_t v = 0; v < s.vertices; ++v) {
+            if (s.rank[v] != kForeign) continue;
+            const std::size_t f = s.final_index[v];
+            for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] += s.acc[std::size_t(v) * 3 + c];
+        }
+    }
+    for (std::size_t v = 0; v < out.vertex_count; ++v) normalize_or_up(verts + v * 6 + 3);
+}
+
+void SlicesExtractor::extract_serial(ConstPositions p, SurfaceMesh& out) {
+    begin_frame(p);
+    for (std::uint32_t c = 0; c < chunks_; ++c) block_count(p, c);
+    block_prefix();
+    for (std::uint32_t c = 0; c < chunks_; ++c) block_scatter(p, c);
+    for (std::uint32_t a = 0; a < blocks(); ++a) extract_block(a);
+    weld_offsets(out);
+    for (std::uint32_t a = 0; a < blocks(); ++a) weld_block(a, out);
+    for (std::uint32_t a = 0; a < blocks(); ++a) normals_block(a, out);
+    stage(out);
+}
+
+}  // namespace rivulet

@@ -1,0 +1,123 @@
+#pragma once
+// Marching slices as a system (seed 004 §3.2): owns the per-block buffers (block lists, lookup caches,
+// sweep scratch, per-block meshes), grown rarely, and exposes the per-frame jobs the frame graph runs:
+//
+//   begin_frame                      bounds, block grid                     (serial)
+//   block_count(chunk)* -> block_prefix -> block_scatter(chunk)*   particles into blocks (jobs/block_bins.h)
+//   extract_block(block)*            lookup cache + seeds + sweep per non-empty block
+//                                    (jobs/lookup_cache.h, jobs/marching_slices.h)
+//   weld_offsets                     vertex / triangle offsets per block, limits (serial)
+//   weld_block(block)*               owned vertices out, indices remapped to global (border vertices to
+//                                    their owner block's copy)
+//   normals_block(block)*            angle-weighted normals per block (jobs/angle_normals.h)
+//   stage                            border normals summed in block order, normalised, counts (serial)
+//   (* = independent items, run in parallel)
+//
+// Ownership rule: the vertex on global edge (corner g, axis a) belongs to the block holding cube g, i.e.
+// each block owns the vertices on its min faces; a block that also produced it (on its max faces) refers
+// to the owner's copy. Both compute it from the same corner values summed in the same global order, so
+// the welded mesh is watertight across block borders. Output is in block order: the same bytes at any
+// thread count.
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "jobs/lookup_cache.h"
+#include "jobs/marching_slices.h"
+#include "jobs/particle_spans.h"
+#include "jobs/slice_field.h"
+#include "systems/particles/aligned_array.h"
+#include "systems/slices/slices_settings.h"
+#include "systems/slices/surface_mesh.h"
+
+namespace rivulet {
+
+struct SlicesStats {
+    std::uint32_t blocks = 0;         // blocks of the grid
+    std::uint32_t active_blocks = 0;  // blocks holding particles
+    std::uint64_t block_entries = 0;  // particle-in-block listings
+    std::uint64_t seeds = 0, cubes = 0, slice_fills = 0;
+    std::uint32_t peak_slices = 0;  // most slice caches one block held at once
+    std::uint64_t vertices = 0, triangles = 0;
+};
+
+class SlicesExtractor {
+  public:
+    static constexpr std::uint32_t kChunk = 4096;  // particles per block-sort chunk
+
+    // Throws std::invalid_argument when settings.validate() fails.
+    SlicesExtractor(const SlicesSettings& settings, std::size_t max_particles);
+    ~SlicesExtractor();
+    SlicesExtractor(const SlicesExtractor&) = delete;
+    SlicesExtractor& operator=(const SlicesExtractor&) = delete;
+
+    const SlicesSettings& settings() const { return settings_; }
+    float rc() const { return rc_; }
+    float iso() const { return iso_; }
+    float voxel() const { return voxel_; }
+    const SliceGrid& grid() const { return grid_; }
+
+    // ---- per-frame jobs; `p` must be the same positions for every job of a frame ----
+    void begin_frame(ConstPositions p);  // throws on too many particles, non-finite ones, grid limits
+    std::uint32_t chunks() const { return chunks_; }
+    void block_count(ConstPositions p, std::uint32_t chunk);
+    void block_prefix();
+    void block_scatter(ConstPositions p, std::uint32_t chunk);
+    std::uint32_t blocks() const { return active_count_; }  // non-empty blocks, the items below
+    std::uint32_t block_id(std::uint32_t item) const { return active_[item]; }
+    void extract_block(std::uint32_t item);
+    void weld_offsets(SurfaceMesh& out);
+    void weld_block(std::uint32_t item, SurfaceMesh& out);
+    void normals_block(std::uint32_t item, SurfaceMesh& out);
+    void stage(SurfaceMesh& out);
+
+    void extract_serial(ConstPositions p, SurfaceMesh& out);
+
+    const SlicesStats& stats() const { return stats_; }
+
+  private:
+    struct BorderEntry {
+        std::uint64_t key;
+        std::uint32_t rank;
+    };
+    struct BlockSlot {
+        AlignedArray<float> positions;  // 3 per vertex
+        AlignedArray<std::uint64_t> keys;
+        AlignedArray<std::uint32_t> triangles;
+        AlignedArray<std::uint32_t> rank;  // owned rank, or kForeign
+        AlignedArray<std::uint32_t> final_index;
+        AlignedArray<BorderEntry> border;  // owned vertices other blocks may refer to, sorted by key
+        AlignedArray<float> acc;           // normal accumulators, 3 per vertex
+        std::uint32_t vertices = 0, triangles_n = 0, owned = 0, border_n = 0;
+        std::uint64_t vertex_offset = 0, triangle_offset = 0;
+        BlockSweepStats sweep;
+    };
+    struct Scratch;
+    Scratch& acquire_scratch();
+    void release_scratch(Scratch& s);
+    std::uint32_t owner_of(std::uint64_t key) const;
+
+    SlicesSettings settings_;
+    std::size_t max_particles_;
+    float rc_ = 0, iso_ = 0, voxel_ = 0;
+    SliceGrid grid_;
+
+    std::size_t particles_ = 0;
+    std::uint32_t chunks_ = 0;
+    std::uint32_t entries_ = 0;
+    std::uint32_t active_count_ = 0;
+    SlicesStats stats_;
+
+    AlignedArray<std::uint32_t> chunk_counts_, chunk_cursors_, block_offsets_, block_entries_;
+    AlignedArray<float> entry_x_, entry_y_, entry_z_;
+    AlignedArray<std::uint32_t> active_;
+    AlignedArray<std::int32_t> block_to_active_;
+    std::vector<BlockSlot> slots_;
+
+    std::mutex scratch_mutex_;
+    std::vector<std::unique_ptr<Scratch>> scratch_;
+    std::vector<Scratch*> free_scratch_;
+};
+
+}  // namespace rivulet
