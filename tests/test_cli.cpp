@@ -113,7 +113,7 @@ TEST(Cli, BadInputsFailWithAClearMessage) {
                                            {"run --scene nope --frames 1", "nope"},
                                            {"run --frames 0", "--frames"},
                                            {"run --size 12x", "--size"},
-                                           {"run --method slices --frames 1", "slices"},
+                                           {"run --method blobs --frames 1", "blobs"},
                                            {"run --epsilon -1 --frames 1", "--epsilon"},
                                            {"run --warmup -3 --frames 1", "--warmup"},
                                            {"mesh " + nan + " --threads 5000", "--threads"},

@@ -124,11 +124,10 @@ TEST(Recording, ReplayMatchesAtOneAndTwoThreadsAndCatchesAPerturbedInputAtItsFra
     EXPECT_EQ(d->buffer, "particles");
 }
 
-// The golden recordings were made with `rivulet run --scene S --frames 100 --warmup 30 --no-render
-// --record tests/golden/S_scan.rivrec`; re-make them when a change to the simulation or the surface is
-// intended (docs/recording.md).
+// The golden recordings were made with the commands in docs/recording.md; re-make them when a change to
+// the simulation or the surface is intended.
 TEST(Recording, GoldenRecordingsReplayIdenticallyAtOneAndTwoThreads) {
-    for (const char* name : {"fountain_scan", "faucet_scan"}) {
+    for (const char* name : {"fountain_scan", "faucet_scan", "faucet_slices"}) {
         const std::string path = std::string(RIVULET_SOURCE_DIR) + "/tests/golden/" + name + ".rivrec";
         for (const char* threads : {"1", "2"}) {
             const test::Result res = test::run_cli("replay " + path + " --threads " + threads);

@@ -20,7 +20,9 @@ int replay(const ReplayOptions& o) {
     const Recording rec = read_recording(o.file);
     ThreadControl threads(o.threads);
     PipelineConfig config;
+    config.method = rec.method;
     config.scan = rec.scan;
+    config.slices = rec.slices;
     config.render = false;  // hashes cover the particles and the surface; pictures add nothing to compare
     config.hash_frames = true;
     config.inputs = [&rec](std::uint64_t f) { return f < rec.inputs.size() ? rec.inputs[f] : FrameInputs{}; };
@@ -34,15 +36,15 @@ int replay(const ReplayOptions& o) {
     const auto diverged = first_divergence(rec, pipeline.records());
     if (!diverged) {
         fmt::print("replay {}: scene {}, method {}, {} frames at {} threads: identical\n", o.file,
-                   rec.scene.name, rec.method, frames, threads.threads());
+                   rec.scene.name, surface_method_name(rec.method), frames, threads.threads());
         return 0;
     }
     const Divergence& d = *diverged;
     fmt::print(
         "replay {}: scene {}, method {}, {} threads: DIVERGED at frame {} (simulation frame {}): {} "
         "recorded {} replayed {}\n",
-        o.file, rec.scene.name, rec.method, threads.threads(), d.frame, d.sim_frame, d.buffer,
-        hash_hex(d.recorded), hash_hex(d.replayed));
+        o.file, rec.scene.name, surface_method_name(rec.method), threads.threads(), d.frame, d.sim_frame,
+        d.buffer, hash_hex(d.recorded), hash_hex(d.replayed));
     return 1;
 }
 

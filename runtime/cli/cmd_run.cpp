@@ -32,6 +32,7 @@ struct RunOptions {
     bool no_pipeline = false;
     bool no_render = false;
     ScanOptions scan;
+    SlicesOptions slices;
 };
 
 // Medians over the frames after the first `skip` (caches, allocator and llvmpipe settling).
@@ -67,7 +68,10 @@ int run(const RunOptions& o) {
 
     ThreadControl threads(o.threads);
     PipelineConfig config;
+    config.method = parse_surface_method(o.method);
     config.scan = o.scan.resolve();
+    config.slices.voxel = o.slices.voxel;
+    config.slices.block_cubes = o.slices.block;
     config.render = !o.no_render;
     config.pipelined = !o.no_pipeline;
     config.out_dir = o.no_render ? "" : o.out;
@@ -105,10 +109,10 @@ int run(const RunOptions& o) {
     const auto& recs = pipeline.records();
     const FrameRecord& last = recs.back();
     fmt::print(
-        "scene {} | method scan | {} frames | {} threads | {} particles, {} groups, {} isolated, {} "
+        "scene {} | method {} | {} frames | {} threads | {} particles, {} {}, {} isolated, {} "
         "triangles (last frame)\n",
-        scene.name, recs.size(), threads.threads(), last.particles, last.groups, last.isolated,
-        last.triangles);
+        scene.name, o.method, recs.size(), threads.threads(), last.particles, last.groups,
+        config.method == SurfaceMethod::kScan ? "groups" : "blocks", last.isolated, last.triangles);
     fmt::print("{}", format_stage_table(summary, config.render));
     if (!config.out_dir.empty()) fmt::print("pictures: {}/frame_*.png\n", config.out_dir);
     if (trace) {
@@ -119,14 +123,14 @@ int run(const RunOptions& o) {
                    trace->dropped() ? fmt::format(", {} zones dropped: buffers full", trace->dropped()) : "");
     }
     if (!o.record.empty()) {
-        write_recording(o.record, make_recording(pipeline, config.scan, inputs_log));
+        write_recording(o.record, make_recording(pipeline, inputs_log));
         fmt::print("recording: {} ({} frames; replay with: rivulet replay {})\n", o.record, recs.size(),
                    o.record);
     }
     if (!o.json.empty()) {
         nlohmann::json j = stage_json(summary);
         j["scene"] = scene.name;
-        j["method"] = "scan";
+        j["method"] = o.method;
         j["threads"] = threads.threads();
         j["pipelined"] = config.pipelined;
         j["particles"] = last.particles;
@@ -165,6 +169,7 @@ void add_run_command(CLI::App& app, int& status) {
     cmd->add_flag("--no-pipeline", opts->no_pipeline, "Extract frame N+1 only after frame N is rendered");
     cmd->add_flag("--no-render", opts->no_render, "Simulate and extract only (no GL, no pictures)");
     opts->scan.add_to(*cmd);
+    opts->slices.add_to(*cmd);
     cmd->callback([opts, &status] { status = run(*opts); });
 }
 

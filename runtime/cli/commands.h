@@ -25,13 +25,12 @@ struct ScanOptions {
     ScanSettings resolve() const;
 };
 
-// The options every extracting command shares, each with its check: --method ('scan', and 'slices' where
-// the command has it wired: `mesh` does, `run` not yet) and --threads (0 = all hardware threads, at most
-// 1024).
-void add_method_option(CLI::App& cmd, std::string& method, bool slices_available = false);
+// The options every extracting command shares, each with its check: --method (scan or slices) and
+// --threads (0 = all hardware threads, at most 1024).
+void add_method_option(CLI::App& cmd, std::string& method);
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help);
 
-// Options of marching slices for `mesh` (--voxel, --block).
+// Options of marching slices shared by `run` and `mesh` (--voxel, --block).
 struct SlicesOptions {
     float voxel = 0;
     std::uint32_t block = 16;

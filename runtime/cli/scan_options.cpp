@@ -55,21 +55,14 @@ ScanSettings ScanOptions::resolve() const {
     return s;
 }
 
-void add_method_option(CLI::App& cmd, std::string& method, bool slices_available) {
+void add_method_option(CLI::App& cmd, std::string& method) {
     cmd.add_option("--method", method,
-                   slices_available
-                       ? "Surface method: scan (sphere scan conversion) or slices (marching slices)"
-                       : "Surface method: scan (sphere scan conversion)")
+                   "Surface method: scan (sphere scan conversion) or slices (marching slices)")
         ->capture_default_str()
         ->check(CLI::Validator(
-            [slices_available](std::string& m) -> std::string {
-                if (m == "scan" || (slices_available && m == "slices")) return {};
-                if (m == "slices")
-                    return "'slices' is not available for this command yet: use 'scan' (or `rivulet mesh "
-                           "--method slices`)";
-                return fmt::format(
-                    "'{}' is not available: choose {}", m,
-                    slices_available ? "'scan' or 'slices'" : "'scan' (sphere scan conversion)");
+            [](std::string& m) -> std::string {
+                if (m == "scan" || m == "slices") return {};
+                return fmt::format("'{}' is not a surface method: choose 'scan' or 'slices'", m);
             },
             "METHOD"));
 }

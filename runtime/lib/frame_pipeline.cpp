@@ -51,6 +51,16 @@ struct FramePipeline::PngRing {
     }
 };
 
+SurfaceMethod parse_surface_method(const std::string& name) {
+    if (name == "scan") return SurfaceMethod::kScan;
+    if (name == "slices") return SurfaceMethod::kSlices;
+    throw std::invalid_argument("unknown surface method '" + name + "': use 'scan' or 'slices'");
+}
+
+const char* surface_method_name(SurfaceMethod m) {
+    return m == SurfaceMethod::kScan ? "scan" : "slices";
+}
+
 FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& config)
     : scene_(scene), config_(config) {
     sim_ = std::make_unique<SceneSimulation>(scene_, config_.inputs);
@@ -58,7 +68,15 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
     s.radius = scene_.particle_radius;
     s.v_top = scene_.v_max;
     s.v_bottom = scene_.v_min;
-    scan_ = std::make_unique<ScanConverter>(s, scene_.max_particles);
+    const bool slices = config_.method == SurfaceMethod::kSlices;
+    // The scan converter's pool is small when it is not the method: the renderer still wants a layout.
+    if (slices) s.max_groups = 1;
+    scan_ = std::make_unique<ScanConverter>(s, slices ? 1 : scene_.max_particles);
+    if (slices) {
+        SlicesSettings ss = config_.slices;
+        ss.radius = scene_.particle_radius;
+        slices_ = std::make_unique<SlicesExtractor>(ss, scene_.max_particles);
+    }
     for (FrameSlot& slot : slots_) {
         scan_->prepare_output(slot.scan);
         const HeightFieldView pool = sim_->pool_view();
@@ -92,9 +110,14 @@ FramePipeline::~FramePipeline() = default;
 
 void FramePipeline::build_graph() {
     sim_end_ = sim_->add_jobs(graph_);
-    const ScanJobIds scan = add_scan_jobs(
-        graph_, *scan_, [this] { return sim_->particles().positions(); },
-        [this]() -> ScanOutput& { return slots_[target_slot_].scan; }, {sim_end_});
+    const auto positions = [this] { return sim_->particles().positions(); };
+    const FrameGraph::JobId surface =
+        slices_ ? add_slices_jobs(graph_, *slices_, positions,
+                                  [this]() -> SurfaceMesh& { return slots_[target_slot_].mesh; }, {sim_end_})
+                      .stage
+                : add_scan_jobs(graph_, *scan_, positions,
+                                [this]() -> ScanOutput& { return slots_[target_slot_].scan; }, {sim_end_})
+                      .stage;
     // Hand-over data of the slot: pool heights copied (the simulation moves on), counters, hash.
     graph_.serial("upload_staging",
                   [this] {
@@ -104,10 +127,12 @@ void FramePipeline::build_graph() {
                       slot.particles = static_cast<std::uint32_t>(sim_->particles().size());
                       slot.frame = sim_->last_frame();
                       slot.inputs = sim_->last_inputs();
-                      slot.hash = config_.hash_frames ? frame_output_hash(slot.scan, scan_->layout()) : 0;
+                      if (config_.hash_frames)
+                          slot.hash = slices_ ? mesh_hash(slot.mesh.view())
+                                              : frame_output_hash(slot.scan, scan_->layout());
                       slot.particle_hash = config_.hash_frames ? particle_hash(sim_->particles()) : 0;
                   },
-                  {scan.stage});
+                  {surface});
     if (graph_.job_count() > kMaxFrameJobs)
         throw std::logic_error("frame graph has more jobs than kMaxFrameJobs");
 }
@@ -129,9 +154,14 @@ void FramePipeline::finish_extract(int slot) {
     pending_ = {};
     pending_.frame = s.frame;
     pending_.particles = s.particles;
-    pending_.groups = s.scan.draw_count;
-    pending_.isolated = s.scan.sphere_count;
-    pending_.triangles = s.scan.triangles;
+    if (slices_) {
+        pending_.groups = slices_->blocks();
+        pending_.triangles = s.mesh.triangle_count();
+    } else {
+        pending_.groups = s.scan.draw_count;
+        pending_.isolated = s.scan.sphere_count;
+        pending_.triangles = s.scan.triangles;
+    }
     pending_.hash = s.hash;
     pending_.particle_hash = s.particle_hash;
     pending_.inputs = s.inputs;

@@ -13,6 +13,7 @@
 #include "runtime/lib/frame_slot.h"
 #include "runtime/lib/scan_jobs.h"
 #include "runtime/lib/scene_simulation.h"
+#include "runtime/lib/slices_jobs.h"
 #include "runtime/lib/trace_recorder.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/renderer.h"
@@ -21,8 +22,15 @@
 
 namespace rivulet {
 
+enum class SurfaceMethod { kScan, kSlices };
+// "scan" or "slices"; throws std::invalid_argument naming both otherwise.
+SurfaceMethod parse_surface_method(const std::string& name);
+const char* surface_method_name(SurfaceMethod m);
+
 struct PipelineConfig {
+    SurfaceMethod method = SurfaceMethod::kScan;
     ScanSettings scan;         // v_top / v_bottom / radius are taken from the scene
+    SlicesSettings slices;     // radius is taken from the scene
     bool render = true;        // false: extraction only (benchmarks, tests without GL)
     bool pipelined = true;     // false: extract then render, one after the other
     bool hash_frames = false;  // frame_output_hash per frame (determinism tests, replay)
@@ -39,7 +47,7 @@ inline constexpr std::size_t kMaxFrameJobs = 32;
 
 struct FrameRecord {
     std::uint64_t frame = 0;
-    std::uint32_t particles = 0, groups = 0, isolated = 0;
+    std::uint32_t particles = 0, groups = 0, isolated = 0;  // groups: slices' non-empty blocks
     std::uint64_t triangles = 0;
     std::uint64_t hash = 0;           // the surface's buffers (when config.hash_frames)
     std::uint64_t particle_hash = 0;  // the particle arrays the surface was extracted from (idem)
@@ -68,6 +76,7 @@ class FramePipeline {
     const std::vector<FrameRecord>& records() const { return records_; }
     const FrameGraph& graph() const { return graph_; }
     const ScanConverter& scan() const { return *scan_; }
+    const PipelineConfig& config() const { return config_; }
     const ParticleSet& particles() const { return sim_->particles(); }
     const FrameSlot& slot(int i) const { return slots_[i]; }
     Renderer* renderer() { return renderer_.get(); }
@@ -83,7 +92,8 @@ class FramePipeline {
     SceneDesc scene_;
     PipelineConfig config_;
     std::unique_ptr<SceneSimulation> sim_;
-    std::unique_ptr<ScanConverter> scan_;
+    std::unique_ptr<ScanConverter> scan_;      // always built: the renderer's cylinder pool comes from it
+    std::unique_ptr<SlicesExtractor> slices_;  // method slices
     std::array<FrameSlot, 2> slots_;
     int target_slot_ = 0;
     FrameGraph graph_;

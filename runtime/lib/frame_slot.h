@@ -8,13 +8,15 @@
 #include "systems/render/frame_view.h"
 #include "systems/scan/scan_output.h"
 #include "systems/scenes/frame_inputs.h"
+#include "systems/slices/surface_mesh.h"
 
 namespace rivulet {
 
 struct FrameSlot {
     std::uint64_t frame = 0;
     std::uint32_t particles = 0;
-    ScanOutput scan;
+    ScanOutput scan;   // sphere scan conversion
+    SurfaceMesh mesh;  // marching slices
     AlignedArray<float> pool_heights;
     HeightFieldView pool;
     std::uint64_t hash = 0;           // frame_output_hash, when hashing is on
@@ -25,6 +27,7 @@ struct FrameSlot {
         FrameView v;
         v.cylinders = scan.cylinder_view();
         v.sphere_centers = scan.sphere_view();
+        v.mesh = mesh.view();
         v.sphere_radius = sphere_radius;
         v.pool = pool;
         return v;

@@ -9,6 +9,7 @@
 #include "jobs/mesh_hash.h"
 #include "systems/scan/scan_settings_json.h"
 #include "systems/scenes/scene_json.h"
+#include "systems/slices/slices_settings_json.h"
 
 namespace rivulet {
 namespace {
@@ -45,8 +46,9 @@ void write_recording(const std::string& path, const Recording& r) {
     doc["format"] = kRecordingFormat;
     doc["version"] = kRecordingVersion;
     doc["scene"] = scene_to_json(r.scene);
-    doc["method"] = r.method;
-    doc["settings"] = scan_settings_to_json(r.scan);
+    doc["method"] = surface_method_name(r.method);
+    doc["settings"] =
+        r.method == SurfaceMethod::kScan ? scan_settings_to_json(r.scan) : slices_settings_to_json(r.slices);
     json inputs = json::array();
     for (const FrameInputs& in : r.inputs)
         inputs.push_back(
@@ -89,9 +91,12 @@ Recording read_recording(const std::string& path) {
     Recording r;
     try {
         r.scene = scene_from_json(doc.at("scene"), where + ": scene");
-        r.method = doc.at("method").get<std::string>();
-        if (r.method != "scan") throw RecordingError(where + ": unknown method '" + r.method + "'");
-        r.scan = scan_settings_from_json(doc.at("settings"), where + ": settings");
+        r.method = parse_surface_method(doc.at("method").get<std::string>());
+        if (r.method == SurfaceMethod::kScan) {
+            r.scan = scan_settings_from_json(doc.at("settings"), where + ": settings");
+        } else {
+            r.slices = slices_settings_from_json(doc.at("settings"), where + ": settings");
+        }
         const json& inputs = doc.at("inputs");
         const json& frames = doc.at("frames");
         if (!inputs.is_array() || !frames.is_array() || frames.size() > kMaxFrames)
@@ -123,12 +128,12 @@ Recording read_recording(const std::string& path) {
     return r;
 }
 
-Recording make_recording(const FramePipeline& pipeline, const ScanSettings& scan,
-                         std::span<const FrameInputs> inputs) {
+Recording make_recording(const FramePipeline& pipeline, std::span<const FrameInputs> inputs) {
     Recording r;
     r.scene = pipeline.scene();
-    r.method = "scan";
-    r.scan = scan;
+    r.method = pipeline.config().method;
+    r.scan = pipeline.config().scan;
+    r.slices = pipeline.config().slices;
     r.inputs.assign(inputs.begin(), inputs.end());
     for (const FrameRecord& f : pipeline.records()) r.frames.push_back({f.particle_hash, f.hash});
     return r;

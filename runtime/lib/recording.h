@@ -27,8 +27,9 @@ struct RecordedFrame {
 
 struct Recording {
     SceneDesc scene;  // warm-up frames included (scene.warmup_frames)
-    std::string method = "scan";
-    ScanSettings scan;
+    SurfaceMethod method = SurfaceMethod::kScan;
+    ScanSettings scan;  // settings of the method recorded (the other keeps its defaults)
+    SlicesSettings slices;
     std::vector<FrameInputs> inputs;    // every simulated frame: warm-up frames first, then recorded ones
     std::vector<RecordedFrame> frames;  // recorded frames (after warm-up)
 };
@@ -43,8 +44,7 @@ void write_recording(const std::string& path, const Recording& recording);
 Recording read_recording(const std::string& path);
 
 // The recording of a finished run (records must carry hashes: config.hash_frames).
-Recording make_recording(const FramePipeline& pipeline, const ScanSettings& scan,
-                         std::span<const FrameInputs> inputs);
+Recording make_recording(const FramePipeline& pipeline, std::span<const FrameInputs> inputs);
 
 struct Divergence {
     std::size_t frame = 0;  // recorded frame index (0 = first after warm-up)

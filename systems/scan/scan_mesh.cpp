@@ -53,9 +53,13 @@ TriangleMesh assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& lay
 }
 
 std::uint64_t mesh_hash(const TriangleMesh& mesh) {
+    return mesh_hash(TriangleMeshView{mesh.vertices, mesh.indices});
+}
+
+std::uint64_t mesh_hash(const TriangleMeshView& mesh) {
     Hasher h;
-    h.add(std::span<const float>(mesh.vertices));
-    h.add(std::span<const std::uint32_t>(mesh.indices));
+    h.add(mesh.vertices);
+    h.add(mesh.indices);
     return h.digest();
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "jobs/cylinder_layout.h"
+#include "systems/render/frame_view.h"
 #include "systems/scan/scan_output.h"
 
 namespace rivulet {
@@ -22,6 +23,7 @@ TriangleMesh assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& lay
 
 // mesh_hash: XXH3-64 of the vertex buffer bytes followed by the index buffer bytes.
 std::uint64_t mesh_hash(const TriangleMesh& mesh);
+std::uint64_t mesh_hash(const TriangleMeshView& mesh);  // the same bytes, from views (frame slots)
 
 // A frame's hash without assembling: draw list, every drawn ring range of the vertex pool, sphere centres.
 // Identical outputs give identical hashes; cheap enough to run every frame.
