@@ -1,0 +1,76 @@
+#include "jobs/sph_forces.h"
+
+#include <cmath>
+
+namespace rivulet {
+
+float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const SphWalls& walls,
+                 std::size_t begin, std::size_t end, const SphAccelOut& out) {
+    const float wall_scale = fluid.mass / (walls.spacing * walls.spacing);
+    const SphKernels& k = fluid.kernels;
+    const SphNeighbourhood& nb = in.nb;
+    const float h = k.h, h2 = k.h2;
+    const float m = fluid.mass;
+    const bool tension = fluid.surface_tension;
+    float max_a2 = 0.0f;
+    for (std::size_t i = begin; i < end; ++i) {
+        const float xi = nb.x[i], yi = nb.y[i], zi = nb.z[i];
+        const float vxi = in.vx[i], vyi = in.vy[i], vzi = in.vz[i];
+        const float pi = in.p[i];
+        float fpx = 0, fpy = 0, fpz = 0;  // sum of (p_i + p_j) / rho_j * spiky (h - r)^2 / r * r_vec
+        float fvx = 0, fvy = 0, fvz = 0;  // sum of (v_j - v_i) / rho_j * (h - r)
+        float nx = 0, ny = 0, nz = 0, lap = 0;
+        sph_for_each_near(nb.grid, nb.cell_start, nb.key[i], [&](std::uint32_t j) {
+            const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
+            const float r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 >= h2 || j == i) return;
+            const float inv_rho = 1.0f / in.rho[j];
+            if (tension) {
+                const float d = h2 - r2;
+                const float g = d * d * inv_rho;
+                nx += g * dx, ny += g * dy, nz += g * dz;
+                lap += d * (3.0f * h2 - 7.0f * r2) * inv_rho;
+            }
+            if (r2 <= 0.0f) return;
+            const float r = std::sqrt(r2);
+            const float w = h - r;
+            const float sp = (pi + in.p[j]) * inv_rho * w * w / r;
+            fpx += sp * dx, fpy += sp * dy, fpz += sp * dz;
+            const float vw = w * inv_rho;
+            fvx += (in.vx[j] - vxi) * vw, fvy += (in.vy[j] - vyi) * vw, fvz += (in.vz[j] - vzi) * vw;
+        });
+        // f_p = -m / 2 * spiky_grad * sum; spiky_grad < 0, so the pressure pushes i away from j.
+        const float cp = -0.5f * m * k.spiky_grad;
+        const float cv = fluid.viscosity * m * k.visc_lap;
+        float fx = cp * fpx + cv * fvx, fy = cp * fpy + cv * fvy, fz = cp * fpz + cv * fvz;
+        if (tension) {
+            // The particle's own term of the colour field: grad is 0, lap is m / rho_i * lap W(0).
+            lap += h2 * 3.0f * h2 / in.rho[i];
+            const float gx = m * k.poly6_grad * nx, gy = m * k.poly6_grad * ny, gz = m * k.poly6_grad * nz;
+            const float len = std::sqrt(gx * gx + gy * gy + gz * gz);
+            if (len > fluid.tension_threshold) {
+                const float s = -fluid.tension * m * k.poly6_lap * lap / len;
+                fx += s * gx, fy += s * gy, fz += s * gz;
+            }
+        }
+        const float inv_rho_i = 1.0f / in.rho[i];
+        float ax = fx * inv_rho_i + fluid.gx, ay = fy * inv_rho_i + fluid.gy, az = fz * inv_rho_i + fluid.gz;
+        if (walls.enabled && pi > 0.0f) {
+            const float q[3] = {xi, yi, zi};
+            float push[3] = {0, 0, 0};
+            for (int a = 0; a < 3; ++a) {
+                const float lo = q[a] - walls.min[a], hi = walls.max[a] - q[a];
+                if (lo < k.h) push[a] += sph_wall_terms(k, lo, walls.spacing).push;
+                if (hi < k.h) push[a] -= sph_wall_terms(k, hi, walls.spacing).push;
+            }
+            const float s = wall_scale * pi * inv_rho_i * inv_rho_i;
+            ax += s * push[0], ay += s * push[1], az += s * push[2];
+        }
+        out.ax[i] = ax, out.ay[i] = ay, out.az[i] = az;
+        const float a2 = ax * ax + ay * ay + az * az;
+        if (a2 > max_a2) max_a2 = a2;
+    }
+    return max_a2;
+}
+
+}  // namespace rivulet
