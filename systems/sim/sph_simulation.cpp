@@ -76,10 +76,10 @@ std::size_t sph_seed_count(const SphDesc& desc) {
     return n;
 }
 
-SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles)
+SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std::size_t chunks)
     : desc_(desc),
       max_particles_(max_particles),
-      chunks_(std::clamp<std::size_t>((max_particles + 4095) / 4096, 1, 32)) {
+      chunks_(chunks > 0 ? chunks : std::clamp<std::size_t>((max_particles + 4095) / 4096, 1, 32)) {
     const float d = desc.spacing;
     const BoxCollider& box = desc.container.box;
     if (!(d > 0.0f) || !(desc.support_ratio >= 1.0f) || !(desc.rest_density > 0.0f) ||
