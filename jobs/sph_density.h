@@ -19,6 +19,8 @@ struct SphFluidParams {
     float stiffness = 0;  // Tait B = rho0 c0^2 / gamma
     float gamma = 7;
     float viscosity = 0;  // mu
+    float alpha = 0;      // Monaghan artificial viscosity (approaching pairs only)
+    float sound_speed = 0;
     bool surface_tension = false;
     float tension = 0;            // sigma
     float tension_threshold = 0;  // |n| threshold

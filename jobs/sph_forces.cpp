@@ -13,6 +13,9 @@ float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const Sp
     const float m = fluid.mass;
     const bool tension = fluid.surface_tension;
     float max_a2 = 0.0f;
+    // Pi_ij = -alpha c0 h vr / (rho_ij (r^2 + eps^2)) with rho_ij = (rho_i + rho_j) / 2.
+    const float av_scale = -2.0f * fluid.alpha * fluid.sound_speed * h;
+    const float eps2 = 0.01f * h2;
     for (std::size_t i = begin; i < end; ++i) {
         const float xi = nb.x[i], yi = nb.y[i], zi = nb.z[i];
         const float vxi = in.vx[i], vyi = in.vy[i], vzi = in.vz[i];
@@ -20,6 +23,8 @@ float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const Sp
         float fpx = 0, fpy = 0, fpz = 0;  // sum of (p_i + p_j) / rho_j * spiky (h - r)^2 / r * r_vec
         float fvx = 0, fvy = 0, fvz = 0;  // sum of (v_j - v_i) / rho_j * (h - r)
         float nx = 0, ny = 0, nz = 0, lap = 0;
+        float avx = 0, avy = 0, avz = 0;  // sum of Pi_ij (h - r)^2 / r * r_vec
+        const float rhoi = in.rho[i];
         sph_for_each_near(nb.grid, nb.cell_start, nb.key[i], [&](std::uint32_t j) {
             const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
             const float r2 = dx * dx + dy * dy + dz * dz;
@@ -37,7 +42,14 @@ float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const Sp
             const float sp = (pi + in.p[j]) * inv_rho * w * w / r;
             fpx += sp * dx, fpy += sp * dy, fpz += sp * dz;
             const float vw = w * inv_rho;
-            fvx += (in.vx[j] - vxi) * vw, fvy += (in.vy[j] - vyi) * vw, fvz += (in.vz[j] - vzi) * vw;
+            const float dvx = vxi - in.vx[j], dvy = vyi - in.vy[j], dvz = vzi - in.vz[j];
+            fvx -= dvx * vw, fvy -= dvy * vw, fvz -= dvz * vw;
+            const float vr = dvx * dx + dvy * dy + dvz * dz;
+            if (vr < 0.0f) {
+                const float pij = av_scale * vr / ((r2 + eps2) * (rhoi + in.rho[j]));
+                const float s = pij * w * w / r;
+                avx += s * dx, avy += s * dy, avz += s * dz;
+            }
         });
         // f_p = -m / 2 * spiky_grad * sum; spiky_grad < 0, so the pressure pushes i away from j.
         const float cp = -0.5f * m * k.spiky_grad;
@@ -53,8 +65,11 @@ float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const Sp
                 fx += s * gx, fy += s * gy, fz += s * gz;
             }
         }
-        const float inv_rho_i = 1.0f / in.rho[i];
-        float ax = fx * inv_rho_i + fluid.gx, ay = fy * inv_rho_i + fluid.gy, az = fz * inv_rho_i + fluid.gz;
+        const float inv_rho_i = 1.0f / rhoi;
+        const float ca = -m * k.spiky_grad;
+        float ax = fx * inv_rho_i + ca * avx + fluid.gx;
+        float ay = fy * inv_rho_i + ca * avy + fluid.gy;
+        float az = fz * inv_rho_i + ca * avz + fluid.gz;
         if (walls.enabled && pi > 0.0f) {
             const float q[3] = {xi, yi, zi};
             float push[3] = {0, 0, 0};

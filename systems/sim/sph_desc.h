@@ -45,7 +45,10 @@ struct SphDesc {
     // speed, about 10x the largest flow speed, which keeps density variation near 1 %.
     float sound_speed = 20.0f;  // c0, m/s
     float gamma = 7.0f;
-    float viscosity = 0.1f;  // mu of Müller's viscosity term, Pa s
+    float viscosity = 0.01f;  // mu of Müller's viscosity term, Pa s
+    // Monaghan artificial viscosity alpha (approaching pairs only): damps the acoustic noise of the weakly
+    // compressible fluid; 0.02-0.1 is usual.
+    float artificial_viscosity = 0.05f;
     bool surface_tension = false;
     float tension = 0.0728f;           // sigma, N/m (colour-field force of Müller 2003 §4.4)
     float tension_threshold = 7.065f;  // |grad c| above which the force acts, 1/m

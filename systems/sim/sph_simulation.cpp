@@ -97,6 +97,8 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
     fluid_.gamma = desc.gamma;
     fluid_.stiffness = desc.rest_density * desc.sound_speed * desc.sound_speed / desc.gamma;
     fluid_.viscosity = desc.viscosity;
+    fluid_.alpha = desc.artificial_viscosity;
+    fluid_.sound_speed = desc.sound_speed;
     fluid_.surface_tension = desc.surface_tension;
     fluid_.tension = desc.tension;
     fluid_.tension_threshold = desc.tension_threshold;
