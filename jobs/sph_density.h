@@ -35,17 +35,20 @@ struct SphFluidParams {
 //   m / d^2 * sum_layers poly6 * pi (h^2 - delta^2)^4 / 4                  (delta = s + (k + 1/2) d)
 // and, with the particle's own pressure mirrored onto it, the acceleration along the wall's inward normal
 //   m p_i / rho_i^2 * sum_layers 45 / (pi h^6) * 2 pi delta (h - delta)^3 / (3 d^2)
-// (the in-plane parts cancel). Faces are the tank box's; `enabled` false turns the walls off.
+// (the in-plane parts cancel). The artificial viscosity acts the same way against a particle approaching a
+// wall: Pi = -alpha c0 h v_n delta / (rho_i (delta^2 + 0.01 h^2)) in place of p_i / rho_i^2. Faces are the
+// tank box's; `enabled` false turns the walls off.
 struct SphWalls {
     bool enabled = false;
     float min[3] = {0, 0, 0}, max[3] = {0, 0, 0};
     float spacing = 1;
+    float velocity[3] = {0, 0, 0};  // of the walls (the moving container)
 };
 
 // Sum over the wall layers within h of a particle at distance s from a face: density (first) and the
 // normal pressure-gradient factor (second), both without the m / d^2 factor.
 struct SphWallTerms {
-    float density = 0, push = 0;
+    float density = 0, push = 0, damp = 0;  // damp: sum of push terms / (delta^2 + 0.01 h^2) * delta
 };
 inline SphWallTerms sph_wall_terms(const SphKernels& k, float s, float d) {
     SphWallTerms t;
@@ -54,7 +57,9 @@ inline SphWallTerms sph_wall_terms(const SphKernels& k, float s, float d) {
         const float q = k.h2 - delta * delta;
         t.density += k.poly6 * 0.78539816f * q * q * q * q;  // pi / 4
         const float w = k.h - delta;
-        t.push += -k.spiky_grad * 2.0943951f * delta * w * w * w;  // 2 pi / 3
+        const float push = -k.spiky_grad * 2.0943951f * delta * w * w * w;  // 2 pi / 3
+        t.push += push;
+        t.damp += push * delta / (delta * delta + 0.01f * k.h2);
     }
     return t;
 }

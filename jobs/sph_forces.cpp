@@ -70,16 +70,25 @@ float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const Sp
         float ax = fx * inv_rho_i + ca * avx + fluid.gx;
         float ay = fy * inv_rho_i + ca * avy + fluid.gy;
         float az = fz * inv_rho_i + ca * avz + fluid.gz;
-        if (walls.enabled && pi > 0.0f) {
+        if (walls.enabled) {
             const float q[3] = {xi, yi, zi};
+            const float v[3] = {vxi, vyi, vzi};
             float push[3] = {0, 0, 0};
+            const float sp = pi * inv_rho_i * inv_rho_i;
+            const float sa = fluid.alpha * fluid.sound_speed * h * inv_rho_i;
             for (int a = 0; a < 3; ++a) {
+                const float vn = v[a] - walls.velocity[a];  // towards the min wall when < 0
                 const float lo = q[a] - walls.min[a], hi = walls.max[a] - q[a];
-                if (lo < k.h) push[a] += sph_wall_terms(k, lo, walls.spacing).push;
-                if (hi < k.h) push[a] -= sph_wall_terms(k, hi, walls.spacing).push;
+                if (lo < k.h) {
+                    const SphWallTerms t = sph_wall_terms(k, lo, walls.spacing);
+                    push[a] += sp * t.push + (vn < 0.0f ? -sa * vn * t.damp : 0.0f);
+                }
+                if (hi < k.h) {
+                    const SphWallTerms t = sph_wall_terms(k, hi, walls.spacing);
+                    push[a] -= sp * t.push + (vn > 0.0f ? sa * vn * t.damp : 0.0f);
+                }
             }
-            const float s = wall_scale * pi * inv_rho_i * inv_rho_i;
-            ax += s * push[0], ay += s * push[1], az += s * push[2];
+            ax += wall_scale * push[0], ay += wall_scale * push[1], az += wall_scale * push[2];
         }
         out.ax[i] = ax, out.ay[i] = ay, out.az[i] = az;
         const float a2 = ax * ax + ay * ay + az * az;

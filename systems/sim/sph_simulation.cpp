@@ -212,6 +212,8 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
             walls_.min[0] = w0.x, walls_.min[1] = w0.y, walls_.min[2] = w0.z;
             walls_.max[0] = w1.x, walls_.max[1] = w1.y, walls_.max[2] = w1.z;
             boundary_.tank_velocity = (offset_now_ - before) * (1.0f / dt_sub_);
+            const Vec3f wv = boundary_.tank_velocity;
+            walls_.velocity[0] = wv.x, walls_.velocity[1] = wv.y, walls_.velocity[2] = wv.z;
             // The grid follows the tank at the start of the substep, one cell of slack all round.
             const float h = grid_.cell;
             grid_.origin = desc_.container.box.min + before - Vec3f{h, h, h};
