@@ -29,40 +29,45 @@ struct SphFluidParams {
     float pressure(float rho) const;
 };
 
-// The tank walls as seen by the fluid: the lattice of particles continued beyond each face (layers at
-// 1/2, 3/2, ... spacings outside it, as the fluid's own lattice would put them), each layer taken as a
-// continuous sheet of areal density 1/spacing^2. A wall at distance s adds to a particle's density
-//   m / d^2 * sum_layers poly6 * pi (h^2 - delta^2)^4 / 4                  (delta = s + (k + 1/2) d)
-// and, with the particle's own pressure mirrored onto it, the acceleration along the wall's inward normal
-//   m p_i / rho_i^2 * sum_layers 45 / (pi h^6) * 2 pi delta (h - delta)^3 / (3 d^2)
-// (the in-plane parts cancel). The artificial viscosity acts the same way against a particle approaching a
-// wall: Pi = -alpha c0 h v_n delta / (rho_i (delta^2 + 0.01 h^2)) in place of p_i / rho_i^2. Faces are the
-// tank box's; `enabled` false turns the walls off.
+// The tank walls as seen by the fluid: mirror particles. For a particle within h of a face, every
+// neighbour j has an image reflected across that face (and across every pair and triple of near faces,
+// for edges and corners), carrying j's density and pressure, and j's velocity with the component normal
+// to the face reflected about the wall's velocity (free slip). The images continue the fluid beyond the
+// wall, so density, pressure gradient (normal and tangential) and viscosity see a full neighbourhood; an
+// image lies within h of i only if j does, so the same 27-cell search finds them. `enabled` false turns
+// the walls off (the hard constraint of sph_integrate still holds the fluid in).
 struct SphWalls {
     bool enabled = false;
     float min[3] = {0, 0, 0}, max[3] = {0, 0, 0};
-    float spacing = 1;
     float velocity[3] = {0, 0, 0};  // of the walls (the moving container)
 };
 
-// Sum over the wall layers within h of a particle at distance s from a face: density (first) and the
-// normal pressure-gradient factor (second), both without the m / d^2 factor.
-struct SphWallTerms {
-    float density = 0, push = 0, damp = 0;  // damp: sum of push terms / (delta^2 + 0.01 h^2) * delta
-};
-inline SphWallTerms sph_wall_terms(const SphKernels& k, float s, float d) {
-    SphWallTerms t;
-    if (s < 0.0f) s = 0.0f;
-    for (float delta = s + 0.5f * d; delta < k.h; delta += d) {
-        const float q = k.h2 - delta * delta;
-        t.density += k.poly6 * 0.78539816f * q * q * q * q;  // pi / 4
-        const float w = k.h - delta;
-        const float push = -k.spiky_grad * 2.0943951f * delta * w * w * w;  // 2 pi / 3
-        t.push += push;
-        t.damp += push * delta / (delta * delta + 0.01f * k.h2);
+// The faces within h of a point: up to one per axis (the tank is wider than 2h).
+struct SphNearWalls {
+    int count = 0;
+    int axis[3] = {0, 0, 0};
+    float twice[3] = {0, 0, 0};    // 2 * face coordinate: image coordinate = twice - coordinate
+    float twice_v[3] = {0, 0, 0};  // 2 * wall velocity along the axis
+    SphNearWalls(const SphWalls& w, const float q[3], float h) {
+        if (!w.enabled) return;
+        for (int a = 0; a < 3; ++a) {
+            if (q[a] - w.min[a] < h) {
+                axis[count] = a, twice[count] = 2.0f * w.min[a], twice_v[count] = 2.0f * w.velocity[a],
+                ++count;
+            } else if (w.max[a] - q[a] < h) {
+                axis[count] = a, twice[count] = 2.0f * w.max[a], twice_v[count] = 2.0f * w.velocity[a],
+                ++count;
+            }
+        }
     }
-    return t;
-}
+    // Offset i - image(j) for image `mask` (bit t: reflected across face t).
+    void image(int mask, const float qi[3], const float qj[3], float d[3]) const {
+        for (int a = 0; a < 3; ++a) d[a] = qi[a] - qj[a];
+        for (int t = 0; t < count; ++t) {
+            if (mask >> t & 1) d[axis[t]] = qi[axis[t]] - (twice[t] - qj[axis[t]]);
+        }
+    }
+};
 
 // Sorted particle positions and their cells (sph_grid_scatter_chunk output) with the grid's cell ranges.
 struct SphNeighbourhood {
@@ -72,7 +77,7 @@ struct SphNeighbourhood {
     std::span<const float> x, y, z;
 };
 
-// Writes rho[i] and p[i] for sorted particles [begin, end).
+// Writes rho[i] and p[i] for sorted particles [begin, end), with the wall images of SphWalls.
 void sph_density(const SphNeighbourhood& nb, const SphFluidParams& fluid, const SphWalls& walls,
                  std::size_t begin, std::size_t end, std::span<float> rho, std::span<float> p);
 

@@ -6,7 +6,6 @@ namespace rivulet {
 
 float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const SphWalls& walls,
                  std::size_t begin, std::size_t end, const SphAccelOut& out) {
-    const float wall_scale = fluid.mass / (walls.spacing * walls.spacing);
     const SphKernels& k = fluid.kernels;
     const SphNeighbourhood& nb = in.nb;
     const float h = k.h, h2 = k.h2;
@@ -25,11 +24,13 @@ float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const Sp
         float nx = 0, ny = 0, nz = 0, lap = 0;
         float avx = 0, avy = 0, avz = 0;  // sum of Pi_ij (h - r)^2 / r * r_vec
         const float rhoi = in.rho[i];
-        sph_for_each_near(nb.grid, nb.cell_start, nb.key[i], [&](std::uint32_t j) {
-            const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
-            const float r2 = dx * dx + dy * dy + dz * dz;
-            if (r2 >= h2 || j == i) return;
-            const float inv_rho = 1.0f / in.rho[j];
+        const float qi[3] = {xi, yi, zi};
+        const SphNearWalls near(walls, qi, h);
+        const int images = (1 << near.count) - 1;
+        // One neighbour (or wall image) at offset (dx, dy, dz) = x_i - x_j with velocity v_j.
+        auto pair = [&](float dx, float dy, float dz, float r2, float vxj, float vyj, float vzj, float pj,
+                        float rhoj) {
+            const float inv_rho = 1.0f / rhoj;
             if (tension) {
                 const float d = h2 - r2;
                 const float g = d * d * inv_rho;
@@ -39,16 +40,35 @@ float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const Sp
             if (r2 <= 0.0f) return;
             const float r = std::sqrt(r2);
             const float w = h - r;
-            const float sp = (pi + in.p[j]) * inv_rho * w * w / r;
+            const float sp = (pi + pj) * inv_rho * w * w / r;
             fpx += sp * dx, fpy += sp * dy, fpz += sp * dz;
             const float vw = w * inv_rho;
-            const float dvx = vxi - in.vx[j], dvy = vyi - in.vy[j], dvz = vzi - in.vz[j];
+            const float dvx = vxi - vxj, dvy = vyi - vyj, dvz = vzi - vzj;
             fvx -= dvx * vw, fvy -= dvy * vw, fvz -= dvz * vw;
             const float vr = dvx * dx + dvy * dy + dvz * dz;
             if (vr < 0.0f) {
-                const float pij = av_scale * vr / ((r2 + eps2) * (rhoi + in.rho[j]));
+                const float pij = av_scale * vr / ((r2 + eps2) * (rhoi + rhoj));
                 const float s = pij * w * w / r;
                 avx += s * dx, avy += s * dy, avz += s * dz;
+            }
+        };
+        sph_for_each_near(nb.grid, nb.cell_start, nb.key[i], [&](std::uint32_t j) {
+            const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
+            const float r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 >= h2) return;
+            if (j != i) pair(dx, dy, dz, r2, in.vx[j], in.vy[j], in.vz[j], in.p[j], in.rho[j]);
+            if (images == 0) return;
+            const float qj[3] = {nb.x[j], nb.y[j], nb.z[j]};
+            for (int mask = 1; mask <= images; ++mask) {
+                float o[3];
+                near.image(mask, qi, qj, o);
+                const float s2 = o[0] * o[0] + o[1] * o[1] + o[2] * o[2];
+                if (s2 >= h2) continue;
+                float v[3] = {in.vx[j], in.vy[j], in.vz[j]};
+                for (int t = 0; t < near.count; ++t) {
+                    if (mask >> t & 1) v[near.axis[t]] = near.twice_v[t] - v[near.axis[t]];
+                }
+                pair(o[0], o[1], o[2], s2, v[0], v[1], v[2], in.p[j], in.rho[j]);
             }
         });
         // f_p = -m / 2 * spiky_grad * sum; spiky_grad < 0, so the pressure pushes i away from j.
@@ -67,29 +87,9 @@ float sph_forces(const SphForceInputs& in, const SphFluidParams& fluid, const Sp
         }
         const float inv_rho_i = 1.0f / rhoi;
         const float ca = -m * k.spiky_grad;
-        float ax = fx * inv_rho_i + ca * avx + fluid.gx;
-        float ay = fy * inv_rho_i + ca * avy + fluid.gy;
-        float az = fz * inv_rho_i + ca * avz + fluid.gz;
-        if (walls.enabled) {
-            const float q[3] = {xi, yi, zi};
-            const float v[3] = {vxi, vyi, vzi};
-            float push[3] = {0, 0, 0};
-            const float sp = pi * inv_rho_i * inv_rho_i;
-            const float sa = fluid.alpha * fluid.sound_speed * h * inv_rho_i;
-            for (int a = 0; a < 3; ++a) {
-                const float vn = v[a] - walls.velocity[a];  // towards the min wall when < 0
-                const float lo = q[a] - walls.min[a], hi = walls.max[a] - q[a];
-                if (lo < k.h) {
-                    const SphWallTerms t = sph_wall_terms(k, lo, walls.spacing);
-                    push[a] += sp * t.push + (vn < 0.0f ? -sa * vn * t.damp : 0.0f);
-                }
-                if (hi < k.h) {
-                    const SphWallTerms t = sph_wall_terms(k, hi, walls.spacing);
-                    push[a] -= sp * t.push + (vn > 0.0f ? sa * vn * t.damp : 0.0f);
-                }
-            }
-            ax += wall_scale * push[0], ay += wall_scale * push[1], az += wall_scale * push[2];
-        }
+        const float ax = fx * inv_rho_i + ca * avx + fluid.gx;
+        const float ay = fy * inv_rho_i + ca * avy + fluid.gy;
+        const float az = fz * inv_rho_i + ca * avz + fluid.gz;
         out.ax[i] = ax, out.ay[i] = ay, out.az[i] = az;
         const float a2 = ax * ax + ay * ay + az * az;
         if (a2 > max_a2) max_a2 = a2;

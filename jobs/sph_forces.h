@@ -8,7 +8,8 @@
 //              fluid
 //   tension    f_s = -sigma lap(c) n / |n| where |n| > threshold, n = sum_j m / rho_j grad W_poly6,
 //              lap(c) = sum_j m / rho_j lap W_poly6 (colour field, optional)
-//   a_i = (f_p + f_v + f_s) / rho_i + a_av + g + tank wall pressure (SphWalls)
+//   a_i = (f_p + f_v + f_s) / rho_i + a_av + g ; the sums include the tank's mirror images
+//   of the neighbours (SphWalls)
 // Gathers in the fixed neighbour order of sph_for_each_near, so results do not depend on the split.
 #include <cstddef>
 #include <cstdint>

@@ -122,7 +122,6 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
     boundary_.boxes = boxes_;
     boundary_.margin = 0.5f * d;
     walls_.enabled = desc.wall_pressure;
-    walls_.spacing = d;
 
     const std::size_t n = std::max<std::size_t>(max_particles, 1);
     keys_.reserve(n);
