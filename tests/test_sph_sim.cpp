@@ -47,7 +47,7 @@ float max_speed(const ParticleSet& ps) {
 // A small sloshing tank (container moving, plus a user offset input from frame 100): 200 frames at
 // `threads` threads; returns the hash after every 50 frames.
 std::vector<std::uint64_t> slosh_hashes(int threads, bool serial = false) {
-    const SphDesc desc = make_slosh(600);
+    const SphDesc desc = make_slosh(300);
     const std::size_t n = sph_seed_count(desc);
     SphSimulation sim(desc, n, 8);
     ParticleSet ps(n);
@@ -139,19 +139,19 @@ TEST(SphSim, RejectsBadDescAndTooManyParticles) {
     EXPECT_THROW(sim.seed(ps), std::length_error);
 }
 
-// A block of water 0.15 x 0.1 x 0.1 m (spacing 1 cm, h = 2 cm, 1,500 particles) in a closed tank,
+// A block of water 0.15 x 0.1 x 0.1 m (spacing 1.25 cm, h = 2.5 cm, 768 particles) in a closed tank,
 // released from the lattice: after 2 s of simulated time it must be at rest and at rest density.
 TEST(SphSim, FluidAtRestInATankStaysAtRest) {
     SphDesc desc;
     desc.name = "rest";
-    desc.spacing = 0.01f;
+    desc.spacing = 0.0125f;
     const float depth = 0.1f;
     desc.container.box = {{0, 0, 0}, {0.15f, 0.3f, 0.1f}};
     desc.fluid_boxes.push_back({{0, 0, 0}, {0.15f, depth, 0.1f}, {}});
     desc.sound_speed = 10.0f * std::sqrt(2.0f * 9.81f * depth);
     desc.max_substeps = 100;
     const std::size_t n = sph_seed_count(desc);
-    ASSERT_EQ(n, 1500u);
+    ASSERT_EQ(n, 768u);
     SphSimulation sim(desc, n, 4);
     ParticleSet ps(n);
     sim.seed(ps);
@@ -159,11 +159,8 @@ TEST(SphSim, FluidAtRestInATankStaysAtRest) {
     ASSERT_NEAR(sim.time(), 2.0, 1e-6);
     ASSERT_TRUE(all_finite(ps));
 
-    // Speeds. A weakly compressible fluid keeps an acoustic noise whose particle speeds scale with the
-    // numerical sound speed c0 (here 14 m/s; density fluctuations of ~1 % give ~1 % of c0): the largest
-    // speed must stay under 2 % of c0 and the RMS speed under 10 % of the free-fall speed of the column,
-    // sqrt(2 g depth) = 1.4 m/s (measured: 0.21 m/s and 0.07 m/s; the noise comes from the wall layer, see
-    // docs/sph.md), i.e. no flow, only noise.
+    // Speeds: no flow left, next to the free-fall speed of the column sqrt(2 g depth) = 1.4 m/s: the largest
+    // under 5 % of it, the RMS under 1 % (a weakly compressible fluid keeps some acoustic noise).
     const float vmax = max_speed(ps);
     double v2 = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -171,8 +168,8 @@ TEST(SphSim, FluidAtRestInATankStaysAtRest) {
               double(ps.vz()[i]) * ps.vz()[i];
     }
     const double vrms = std::sqrt(v2 / double(n));
-    EXPECT_LT(vmax, 0.02f * desc.sound_speed) << "max speed " << vmax;
-    EXPECT_LT(vrms, 0.1 * std::sqrt(2.0 * 9.81 * depth)) << "rms speed " << vrms;
+    EXPECT_LT(vmax, 0.05f * std::sqrt(2.0f * 9.81f * depth)) << "max speed " << vmax;
+    EXPECT_LT(vrms, 0.01 * std::sqrt(2.0 * 9.81 * depth)) << "rms speed " << vrms;
     // Density: every particle more than h below the free surface (where the kernel support is full of
     // fluid or wall) within 3 % of rest density.
     const auto y = ps.y();
@@ -214,11 +211,11 @@ constexpr FrontPoint kMartinMoyce[] = {{1.219, 1.474}, {1.997, 2.292}, {2.547, 2
 // any particle (the leading edge on the floor), sampled every 5 ms and interpolated linearly in time.
 TEST(SphSim, DamBreakFrontFollowsMartinMoyce) {
     const float a = 0.1f;
-    SphDesc desc = make_dambreak_slab(a, 20, 4);
+    SphDesc desc = make_dambreak_slab(a, 16, 4);
     desc.container.box.max.x = 8.0f * a;
     desc.dt = 0.005f;
     const std::size_t n = sph_seed_count(desc);
-    ASSERT_EQ(n, 3200u);
+    ASSERT_EQ(n, 2048u);
     SphSimulation sim(desc, n);
     ParticleSet ps(n);
     sim.seed(ps);
