@@ -52,15 +52,22 @@ void sph_grid_count_chunk(const SphGrid& grid, std::span<const float> x, std::sp
                           std::span<const float> z, std::span<std::uint32_t> keys,
                           std::span<std::uint32_t> counts);
 
-// Once: per-chunk counts (chunk-major: counts[k * cells + c]) -> per-chunk write cursors (same layout) and
-// cell_start (cells + 1). Returns the particle count.
-std::uint32_t sph_grid_prefix(std::uint32_t cells, std::uint32_t chunks,
-                              std::span<const std::uint32_t> counts, std::span<std::uint32_t> cursors,
-                              std::span<std::uint32_t> cell_start);
+// Between the passes, in two steps so the work over chunks x cells runs in parallel:
+// 1. per range of cells [cell_begin, cell_end) (any split of the cells): from the per-chunk counts
+//    (chunk-major: counts[k * cells + c]), each chunk's write cursor relative to the cell's start
+//    (same layout) and each cell's total;
+// 2. once: totals -> cell_start (cells + 1, an exclusive prefix sum). Returns the particle count.
+// Cell c then holds chunk 0's particles of c, then chunk 1's, ...: stable, whatever the split.
+void sph_grid_cursors(std::uint32_t cells, std::uint32_t chunks, std::uint32_t cell_begin,
+                      std::uint32_t cell_end, std::span<const std::uint32_t> counts,
+                      std::span<std::uint32_t> cursors, std::span<std::uint32_t> totals);
+std::uint32_t sph_grid_offsets(std::span<const std::uint32_t> totals, std::span<std::uint32_t> cell_start);
 
-// Pass 2, per chunk: copies every particle of the chunk to its cursor (advanced in place), with its key.
+// Pass 2, per chunk: copies every particle of the chunk to cell_start[key] + its cursor (advanced in
+// place), with its key.
 void sph_grid_scatter_chunk(const SphParticlesIn& chunk, std::span<const std::uint32_t> keys,
-                            std::span<std::uint32_t> cursors, const SphSortedOut& out);
+                            std::span<const std::uint32_t> cell_start, std::span<std::uint32_t> cursors,
+                            const SphSortedOut& out);
 
 // Calls f(j) for every sorted particle j in the 27 cells around cell `key` (itself included), in a fixed
 // order: z, then y, then the x row (three cells adjacent in sorted order, so one contiguous range).

@@ -88,9 +88,8 @@ int main(int argc, char** argv) {
     if (quick) sizes.resize(2);
     std::printf("SPH dambreak, median ms per substep and per phase (Release)\n");
     std::printf("%9s %7s %7s %8s %10s", "particles", "threads", "chunks", "substeps", "substep_ms");
-    const char* names[] = {"substep", "grid_count", "grid_prefix", "grid_scatter",
-                           "density", "forces",     "integrate"};
-    for (const char* n : names) std::printf(" %12s", n);
+    const rivulet::SphSimulation names(rivulet::make_dambreak(100), 1);
+    for (const rivulet::SphPhase& ph : names.phases()) std::printf(" %12s", ph.name + 4);  // without "sph."
     std::printf("\n");
     for (std::size_t n : sizes) {
         const int samples = n >= 200000 ? 5 : n >= 50000 ? 9 : 21;

@@ -49,7 +49,12 @@ Sorted sort_in_chunks(const SphGrid& g, const Cloud& c, std::uint32_t chunks) {
                              std::span(c.z).subspan(b, len), std::span(keys).subspan(b, len),
                              std::span(counts).subspan(std::size_t(k) * cells, cells));
     }
-    EXPECT_EQ(sph_grid_prefix(cells, chunks, counts, cursors, s.cell_start), n);
+    // Cursors over uneven cell ranges, last range first.
+    std::vector<std::uint32_t> totals(cells);
+    const std::uint32_t cuts[] = {0, cells / 3, cells / 3 + 1, cells};
+    for (int r = 2; r >= 0; --r)
+        sph_grid_cursors(cells, chunks, cuts[r], cuts[r + 1], counts, cursors, totals);
+    EXPECT_EQ(sph_grid_offsets(totals, s.cell_start), n);
     const SphSortedOut out{s.x, s.y, s.z, s.vx, s.vy, s.vz, s.id, s.key};
     for (std::uint32_t k = chunks; k-- > 0;) {
         const std::size_t b = begin(k), len = begin(k + 1) - b;
@@ -57,7 +62,7 @@ Sorted sort_in_chunks(const SphGrid& g, const Cloud& c, std::uint32_t chunks) {
                                 std::span(c.z).subspan(b, len),  std::span(c.vx).subspan(b, len),
                                 std::span(c.vy).subspan(b, len), std::span(c.vz).subspan(b, len),
                                 std::span(c.id).subspan(b, len)};
-        sph_grid_scatter_chunk(in, std::span(keys).subspan(b, len),
+        sph_grid_scatter_chunk(in, std::span(keys).subspan(b, len), s.cell_start,
                                std::span(cursors).subspan(std::size_t(k) * cells, cells), out);
     }
     return s;

@@ -128,6 +128,7 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
     counts_.reserve(chunks_ * cells);
     cursors_.reserve(chunks_ * cells);
     cell_start_.reserve(cells + 1);
+    cell_total_.reserve(cells);
     for (auto* a : {&sx_, &sy_, &sz_, &svx_, &svy_, &svz_, &rho_, &p_, &ax_, &ay_, &az_}) a->reserve(n);
     sid_.reserve(n);
     skey_.reserve(n);
@@ -226,9 +227,16 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
                                  counts_.span(chunks_ * cells).subspan(chunk * cells, cells));
             break;
         }
-        case kGridPrefix:
-            sph_grid_prefix(cells, static_cast<std::uint32_t>(chunks_), counts_.span(chunks_ * cells),
-                            cursors_.span(chunks_ * cells), cell_start_.span(cells + 1));
+        case kGridCursors: {
+            const auto first = static_cast<std::uint32_t>(std::size_t(chunk) * cells / chunks_);
+            const auto last = static_cast<std::uint32_t>(std::size_t(chunk + 1) * cells / chunks_);
+            sph_grid_cursors(cells, static_cast<std::uint32_t>(chunks_), first, last,
+                             counts_.span(chunks_ * cells), cursors_.span(chunks_ * cells),
+                             cell_total_.span(cells));
+            break;
+        }
+        case kGridOffsets:
+            sph_grid_offsets(cell_total_.span(cells), cell_start_.span(cells + 1));
             break;
         case kGridScatter: {
             const SphParticlesIn in{ps.x().subspan(b, e - b),  ps.y().subspan(b, e - b),
@@ -237,7 +245,7 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
                                     ps.id().subspan(b, e - b)};
             const SphSortedOut out{sx_.span(n_),  sy_.span(n_),  sz_.span(n_),  svx_.span(n_),
                                    svy_.span(n_), svz_.span(n_), sid_.span(n_), skey_.span(n_)};
-            sph_grid_scatter_chunk(in, keys_.span(n_).subspan(b, e - b),
+            sph_grid_scatter_chunk(in, keys_.span(n_).subspan(b, e - b), cell_start_.span(cells + 1),
                                    cursors_.span(chunks_ * cells).subspan(chunk * cells, cells), out);
             break;
         }

@@ -42,7 +42,8 @@ class SphSimulation {
     enum Phase : std::size_t {
         kSubstep = 0,  // serial: container pose and grid placement for this substep
         kGridCount,    // parallel: cell keys, per-chunk cell counts
-        kGridPrefix,   // serial: cell ranges and per-chunk cursors
+        kGridCursors,  // parallel (over cell ranges): per-chunk cursors within each cell, cell totals
+        kGridOffsets,  // serial: cell ranges (prefix sum of the totals)
         kGridScatter,  // parallel: particles copied to cell order
         kDensity,      // parallel: density and pressure
         kForces,       // parallel: accelerations
@@ -89,7 +90,8 @@ class SphSimulation {
   private:
     static constexpr std::array<SphPhase, kPhaseCount> kPhases{{{"sph.substep", false},
                                                                 {"sph.grid_count", true},
-                                                                {"sph.grid_prefix", false},
+                                                                {"sph.grid_cursors", true},
+                                                                {"sph.grid_offsets", false},
                                                                 {"sph.grid_scatter", true},
                                                                 {"sph.density", true},
                                                                 {"sph.forces", true},
@@ -122,6 +124,7 @@ class SphSimulation {
     AlignedArray<std::uint32_t> keys_;                    // per particle (store order)
     AlignedArray<std::uint32_t> counts_, cursors_;        // chunks x cells
     AlignedArray<std::uint32_t> cell_start_;              // cells + 1
+    AlignedArray<std::uint32_t> cell_total_;              // cells
     AlignedArray<float> sx_, sy_, sz_, svx_, svy_, svz_;  // sorted copies
     AlignedArray<std::uint32_t> sid_, skey_;
     AlignedArray<float> rho_, p_, ax_, ay_, az_;  // per sorted particle
