@@ -1,0 +1,53 @@
+#include "jobs/sph_grid.h"
+
+namespace rivulet {
+
+void sph_grid_count_chunk(const SphGrid& grid, std::span<const float> x, std::span<const float> y,
+                          std::span<const float> z, std::span<std::uint32_t> keys,
+                          std::span<std::uint32_t> counts) {
+    for (auto& c : counts) c = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const std::uint32_t k = grid.key(x[i], y[i], z[i]);
+        keys[i] = k;
+        ++counts[k];
+    }
+}
+
+void sph_grid_cursors(std::uint32_t cells, std::uint32_t chunks, std::uint32_t cell_begin,
+                      std::uint32_t cell_end, std::span<const std::uint32_t> counts,
+                      std::span<std::uint32_t> cursors, std::span<std::uint32_t> totals) {
+    for (std::uint32_t c = cell_begin; c < cell_end; ++c) totals[c] = 0;
+    // Chunk-major rows, read contiguously.
+    for (std::uint32_t k = 0; k < chunks; ++k) {
+        const std::size_t row = std::size_t(k) * cells;
+        for (std::uint32_t c = cell_begin; c < cell_end; ++c) {
+            cursors[row + c] = totals[c];
+            totals[c] += counts[row + c];
+        }
+    }
+}
+
+std::uint32_t sph_grid_offsets(std::span<const std::uint32_t> totals, std::span<std::uint32_t> cell_start) {
+    std::uint32_t running = 0;
+    for (std::size_t c = 0; c < totals.size(); ++c) {
+        cell_start[c] = running;
+        running += totals[c];
+    }
+    cell_start[totals.size()] = running;
+    return running;
+}
+
+void sph_grid_scatter_chunk(const SphParticlesIn& in, std::span<const std::uint32_t> keys,
+                            std::span<const std::uint32_t> cell_start, std::span<std::uint32_t> cursors,
+                            const SphSortedOut& out) {
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        const std::uint32_t k = keys[i];
+        const std::uint32_t e = cell_start[k] + cursors[k]++;
+        out.x[e] = in.x[i], out.y[e] = in.y[i], out.z[e] = in.z[i];
+        out.vx[e] = in.vx[i], out.vy[e] = in.vy[i], out.vz[e] = in.vz[i];
+        out.id[e] = in.id[i];
+        out.key[e] = k;
+    }
+}
+
+}  // namespace rivulet

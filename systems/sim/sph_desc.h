@@ -1,0 +1,80 @@
+#pragma once
+// Everything the SPH fluid (Müller, Charypar & Gross 2003; seed 002 §III) needs: resolution, fluid
+// constants, equation of state, the tank and its motion, colliders, the initial fluid and time stepping.
+// Units are SI (m, kg, s). docs/sph.md explains each parameter.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "jobs/vec3.h"
+#include "systems/scenes/scene.h"
+
+namespace rivulet {
+
+// A block of fluid filled on a cubic lattice of the desc's spacing: a box [min, max], or a sphere.
+struct SphFluidBox {
+    Vec3f min, max;
+    Vec3f velocity;
+};
+struct SphFluidSphere {
+    Vec3f center;
+    float radius = 0;
+    Vec3f velocity;
+};
+
+// The container: an axis-aligned box (the tank) whose offset is
+//   user offset (SphSimulation::set_container_offset) + amplitude * axis * sin(2 pi frequency t).
+struct SphContainer {
+    BoxCollider box;  // at offset 0
+    Vec3f axis{1, 0, 0};
+    float amplitude = 0;  // m
+    float frequency = 0;  // Hz
+};
+
+struct SphDesc {
+    std::string name = "sph";
+    // Resolution: lattice spacing of the initial fluid and kernel support radius h = support_ratio * spacing.
+    float spacing = 0.02f;
+    float support_ratio = 2.0f;
+    // Fluid. Particle mass is set so the poly6 density of an unbounded lattice of `spacing` equals
+    // rest_density exactly.
+    float rest_density = 1000.0f;  // kg/m^3
+    // Equation of state (Tait, weakly compressible): p = B ((rho / rho0)^gamma - 1), B = rho0 c0^2 / gamma,
+    // clamped at p >= 0 (no tension from particle deficiency at free surfaces). c0 is a numerical sound
+    // speed, about 10x the largest flow speed, which keeps density variation near 1 %.
+    float sound_speed = 20.0f;  // c0, m/s
+    float gamma = 7.0f;
+    float viscosity = 0.01f;  // mu of Müller's viscosity term, Pa s
+    // Monaghan artificial viscosity alpha (approaching pairs only): damps the acoustic noise of the weakly
+    // compressible fluid; 0.02-0.1 is usual.
+    float artificial_viscosity = 0.05f;
+    bool surface_tension = false;
+    float tension = 0.0728f;           // sigma, N/m (colour-field force of Müller 2003 §4.4)
+    float tension_threshold = 7.065f;  // |grad c| above which the force acts, 1/m
+    Vec3f gravity{0, -9.81f, 0};
+    // Boundaries: the tank (free slip, moving with the container) and static colliders (free slip).
+    SphContainer container;
+    bool wall_pressure = true;  // tank walls add density and push back (jobs/sph_density.h SphWalls)
+    std::vector<SphereCollider> spheres;
+    std::vector<BoxCollider> boxes;
+    // Initial fluid.
+    std::vector<SphFluidBox> fluid_boxes;
+    std::vector<SphFluidSphere> fluid_spheres;
+    // Time: one frame is `dt`, split into substeps of equal length by the CFL condition
+    // dt_sub <= cfl * h / (c0 + v_max), the force condition 0.25 sqrt(h / a_max) and the viscous
+    // condition 0.125 h^2 rho0 / mu, at most max_substeps (the frame's substeps are then shorter than
+    // the CFL step would allow only if max_substeps is too small; see docs/sph.md).
+    float dt = 1.0f / 60.0f;
+    float cfl = 0.4f;
+    int max_substeps = 64;
+    // Framing for the renderer: a box holding the tank over its whole motion.
+    BoxCollider bounds;
+
+    float support() const { return support_ratio * spacing; }
+};
+
+// Number of particles seeding `desc` places (lattice points inside its fluid boxes and spheres).
+std::size_t sph_seed_count(const SphDesc& desc);
+
+}  // namespace rivulet

@@ -1,0 +1,134 @@
+#pragma once
+// SPH fluid (Müller, Charypar & Gross 2003; seed 002 §III) as explicit phases the frame graph schedules.
+//
+// One frame:
+//   int substeps = begin_frame(ps, frame);                      // serial
+//   for s in [0, substeps):
+//     for p in [0, phases().size()):
+//       phases()[p].parallel ? run_phase(p, c, ps) for every c in [0, chunks()), any order, any thread
+//                            : run_phase(p, 0, ps)
+//       (every chunk of phase p finishes before phase p + 1 starts)
+//   end_frame(ps);                                              // serial
+//
+// chunks() is fixed at construction (from max_particles), never from the thread count; every parallel
+// phase writes only its chunk's slots and every sum runs in a fixed neighbour order, so the bytes after a
+// frame are the same at any thread count and any chunk schedule. Each substep sorts the particles by grid
+// cell (ids travel with them): the ParticleSet ends every substep reordered by cell. Density, pressure and
+// accelerations are recomputed every substep. All buffers are allocated in the constructor.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "jobs/ballistic_step.h"
+#include "jobs/sph_density.h"
+#include "jobs/sph_forces.h"
+#include "jobs/sph_grid.h"
+#include "jobs/sph_integrate.h"
+#include "systems/particles/aligned_array.h"
+#include "systems/particles/particle_set.h"
+#include "systems/sim/sph_desc.h"
+
+namespace rivulet {
+
+struct SphPhase {
+    const char* name;
+    bool parallel;
+};
+
+class SphSimulation {
+  public:
+    enum Phase : std::size_t {
+        kSubstep = 0,  // serial: container pose and grid placement for this substep
+        kGridCount,    // parallel: cell keys, per-chunk cell counts
+        kGridCursors,  // parallel (over cell ranges): per-chunk cursors within each cell, cell totals
+        kGridOffsets,  // serial: cell ranges (prefix sum of the totals)
+        kGridScatter,  // parallel: particles copied to cell order
+        kDensity,      // parallel: density and pressure
+        kForces,       // parallel: accelerations
+        kIntegrate,    // parallel: velocities, positions, boundaries; written back into the ParticleSet
+        kPhaseCount
+    };
+
+    // Allocates every buffer for up to max_particles; throws std::invalid_argument on a bad desc.
+    // `chunks` is the number of pieces each parallel phase is cut into: 0 picks one per 4096 particles
+    // of max_particles (1 to 32). It never depends on the thread count.
+    SphSimulation(const SphDesc& desc, std::size_t max_particles, std::size_t chunks = 0);
+
+    // Fills `ps` (resized; must have capacity for sph_seed_count(desc)) with the desc's initial fluid,
+    // ids 0..n-1, and resets time and the container. Throws std::length_error beyond max_particles.
+    void seed(ParticleSet& ps);
+
+    // Serial: places the container for this frame and picks the substep count (CFL-limited, <= max).
+    int begin_frame(ParticleSet& ps, std::uint64_t frame);
+    std::span<const SphPhase> phases() const { return kPhases; }
+    std::size_t chunks() const { return chunks_; }
+    void run_phase(std::size_t phase, std::size_t chunk, ParticleSet& ps);
+    void end_frame(ParticleSet& ps);
+
+    void step_serial(ParticleSet& ps, std::uint64_t frame);
+    void step_parallel(ParticleSet& ps, std::uint64_t frame);  // chunks via tbb::parallel_for
+
+    // The user's container displacement (added to the scripted motion), taken at the next begin_frame.
+    void set_container_offset(Vec3f offset) { user_offset_ = offset; }
+    // The container box now (after the last completed substep).
+    BoxCollider tank() const;
+
+    const SphDesc& desc() const { return desc_; }
+    float particle_mass() const { return fluid_.mass; }
+    float support() const { return fluid_.kernels.h; }
+    const SphFluidParams& fluid() const { return fluid_; }
+    int substeps() const { return substeps_; }
+    float substep_dt() const { return dt_sub_; }
+    double time() const { return time_; }
+    // Per particle index of the ParticleSet after a frame: density and pressure at the start of the
+    // frame's last substep (the set is in that substep's sorted order).
+    std::span<const float> density() const { return rho_.span(n_); }
+    std::span<const float> pressure() const { return p_.span(n_); }
+
+  private:
+    static constexpr std::array<SphPhase, kPhaseCount> kPhases{{{"sph.substep", false},
+                                                                {"sph.grid_count", true},
+                                                                {"sph.grid_cursors", true},
+                                                                {"sph.grid_offsets", false},
+                                                                {"sph.grid_scatter", true},
+                                                                {"sph.density", true},
+                                                                {"sph.forces", true},
+                                                                {"sph.integrate", true}}};
+
+    std::size_t chunk_begin(std::size_t c) const { return c * n_ / chunks_; }
+    Vec3f scripted_offset(double t) const;
+    SphNeighbourhood neighbourhood() const;
+
+    SphDesc desc_;
+    SphFluidParams fluid_;
+    std::size_t max_particles_;
+    std::size_t chunks_;
+    std::size_t n_ = 0;
+    SphGrid grid_;
+    std::vector<SphereObstacle> spheres_;
+    std::vector<BoxObstacle> boxes_;
+    SphBoundary boundary_;
+    SphWalls walls_;
+
+    // Frame state.
+    double time_ = 0;
+    int substeps_ = 1;
+    int substep_ = 0;
+    float dt_sub_ = 0;
+    Vec3f user_offset_;
+    Vec3f offset_begin_, offset_end_, offset_now_;
+
+    // Buffers.
+    AlignedArray<std::uint32_t> keys_;                    // per particle (store order)
+    AlignedArray<std::uint32_t> counts_, cursors_;        // chunks x cells
+    AlignedArray<std::uint32_t> cell_start_;              // cells + 1
+    AlignedArray<std::uint32_t> cell_total_;              // cells
+    AlignedArray<float> sx_, sy_, sz_, svx_, svy_, svz_;  // sorted copies
+    AlignedArray<std::uint32_t> sid_, skey_;
+    AlignedArray<float> rho_, p_, ax_, ay_, az_;  // per sorted particle
+    AlignedArray<float> chunk_a2_, chunk_v2_;     // per chunk maxima
+};
+
+}  // namespace rivulet
