@@ -81,6 +81,15 @@ SlicesExtractor::Scratch& SlicesExtractor::acquire_scratch() {
     return *s;
 }
 
+void SlicesExtractor::reserve_scratch(std::size_t workers) {
+    std::lock_guard<std::mutex> lock(scratch_mutex_);
+    while (scratch_.size() < workers) {
+        scratch_.push_back(std::make_unique<Scratch>(grid_));
+        free_scratch_.reserve(scratch_.size());
+        free_scratch_.push_back(scratch_.back().get());
+    }
+}
+
 void SlicesExtractor::release_scratch(Scratch& s) {
     std::lock_guard<std::mutex> lock(scratch_mutex_);
     free_scratch_.push_back(&s);
