@@ -191,6 +191,26 @@ TEST(MarchingSlices, FindsSurfaceTheWalkCannotReach) {
     EXPECT_LT(e.stats.peak_slices, e.grid.n + 1) << "caches released as the sweep passes";
 }
 
+TEST(MarchingSlices, FindsSmallComponentsOnCoarseGrids) {
+    // Lone particles and close pairs with voxels of 1.5 and 2 radii: a component may hold a single
+    // corner, and for a pair it need not be the corner nearest either centre.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> where(0.0f, 4.0f), dir(-1.0f, 1.0f);
+    Cloud c;
+    for (int i = 0; i < 60; ++i) {
+        const float x = where(rng), y = where(rng), z = where(rng);
+        c.add(x, y, z);
+        if (i % 2) continue;
+        float d[3] = {dir(rng), dir(rng), dir(rng)};
+        const float len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + 1e-6f;
+        c.add(x + 0.2f * d[0] / len, y + 0.2f * d[1] / len, z + 0.2f * d[2] / len);
+    }
+    for (float voxel : {0.15f, 0.2f, 0.25f}) {
+        expect_matches_reference(c, settings_for(0.1f, 8, voxel));
+        expect_matches_reference(c, settings_for(0.1f, 32, voxel));
+    }
+}
+
 TEST(MarchingSlices, OneParticleGivesASphereOfTheExpectedRadius) {
     Cloud c;
     c.add(0.31f, -0.12f, 0.57f);
