@@ -7,6 +7,8 @@
 #include <random>
 #include <vector>
 
+#include "jobs/bin_sort.h"
+#include "jobs/block_bins.h"
 #include "jobs/marching_tables.h"
 #include "jobs/mesh_hash.h"
 #include "runtime/lib/frame_graph.h"
@@ -137,6 +139,32 @@ TEST(MarchingTables, EveryCaseIsAClosedConsistentPatch) {
             EXPECT_EQ(a != b, ((t.edge_mask[m] >> e) & 1) != 0) << m << " edge " << e;
         }
     }
+}
+
+TEST(BlockBins, DefaultsListAParticleInAtMostEightBlocksInIndexOrder) {
+    const Cloud c = blobs(4, 6, 200, 0.05f);
+    SlicesExtractor ex(settings_for(0.05f, 16), c.size());
+    ex.begin_frame(c.pos());
+    EXPECT_LE(max_blocks_per_particle(ex.grid()), 8u);
+    std::vector<std::uint32_t> per_particle(c.size());
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        const ParticleReach r = particle_reach(ex.grid(), c.x[i], c.y[i], c.z[i]);
+        std::uint32_t blocks = 1;
+        for (int a = 0; a < 3; ++a) blocks *= std::uint32_t(r.bhi[a] - r.blo[a] + 1);
+        EXPECT_GE(blocks, 1u);
+        EXPECT_LE(blocks, 8u);
+    }
+    // Counted per chunk, prefixed, scattered: ascending particle index within each block.
+    std::vector<std::uint32_t> counts(ex.grid().blocks()), cursors(ex.grid().blocks()),
+        offsets(ex.grid().blocks() + 1);
+    block_count_chunk(ex.grid(), c.pos(), counts);
+    const std::uint32_t total = bin_prefix(ex.grid().blocks(), 1, counts, cursors, offsets);
+    std::vector<std::uint32_t> entries(total);
+    std::vector<float> ex_(total), ey(total), ez(total);
+    block_scatter_chunk(ex.grid(), c.pos(), 0, cursors, {entries, ex_, ey, ez});
+    for (std::uint32_t b = 0; b < ex.grid().blocks(); ++b)
+        for (std::uint32_t e = offsets[b] + 1; e < offsets[b + 1]; ++e) EXPECT_LT(entries[e - 1], entries[e]);
+    EXPECT_GE(total, c.size());
 }
 
 TEST(MarchingSlices, MatchesBruteForceOnRandomBlobs) {
