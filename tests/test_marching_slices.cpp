@@ -337,4 +337,14 @@ TEST(MarchingSlices, RejectsBadSettingsAndInputs) {
     Cloud one;
     one.add(0, 0, 0);
     EXPECT_THROW(small.extract_serial(one.pos(), m), std::length_error);
+    SlicesSettings few_blocks = settings_for(0.05f, 8);
+    few_blocks.max_blocks = 2;
+    const Cloud spread = blobs(9, 3, 10, 0.05f);
+    SlicesExtractor limited(few_blocks, spread.size());
+    try {
+        limited.extract_serial(spread.pos(), m);
+        ADD_FAILURE() << "block limit not reported";
+    } catch (const std::length_error& e) {
+        EXPECT_NE(std::string(e.what()).find("limit of 2"), std::string::npos) << e.what();
+    }
 }
