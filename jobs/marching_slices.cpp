@@ -8,7 +8,7 @@ namespace rivulet {
 
 BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& s, const BlockMeshOut& out) {
+                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive) {
     const MarchingTables& mt = marching_tables();
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n, n1 = n + 1, cols = n1 * n1;
@@ -90,6 +90,21 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         for (std::int32_t c = 0; c < 8; ++c)
             if (walk(ci + (c & 1), cj + ((c >> 1) & 1), ck + ((c >> 2) & 1))) break;
     }
+
+    // ---- optional seeds 3: every sign change on every z column (finds empty cavities too) ----
+    if (exhaustive)
+        for (std::uint32_t j = 0; j <= n; ++j)
+            for (std::uint32_t i = 0; i <= n; ++i) {
+                bool below = field(i, j, 0) >= iso;
+                for (std::uint32_t k = 1; k <= n; ++k) {
+                    const bool here = field(i, j, k) >= iso;
+                    if (here != below)
+                        for (std::int32_t dj = -1; dj <= 0; ++dj)
+                            for (std::int32_t di = -1; di <= 0; ++di)
+                                push(std::int32_t(i) + di, std::int32_t(j) + dj, std::int32_t(k) - 1);
+                    below = here;
+                }
+            }
 
     // ---- seeds 2: every block face the surface can cross ----
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};

@@ -70,8 +70,10 @@ struct SliceScratchSizes {
           columns(std::size_t(n + 1) * (n + 1)) {}
 };
 
+// `exhaustive`: also seed from every sign change along every z column of the block ((n+1)^3 corner
+// evaluations), which finds every component, empty cavities included, like plain marching cubes.
 BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& scratch, const BlockMeshOut& out);
+                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false);
 
 }  // namespace rivulet

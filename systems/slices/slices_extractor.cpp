@@ -240,7 +240,8 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
         slot.sweep =
             march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
                         {slot.positions.span(slot.positions.capacity()), slot.keys.span(slot.keys.capacity()),
-                         slot.triangles.span(slot.triangles.capacity())});
+                         slot.triangles.span(slot.triangles.capacity())},
+                        settings_.exhaustive_seeds);
         if (!slot.sweep.overflow) break;
         slot.positions.reserve(slot.positions.capacity() * 2), slot.keys.reserve(slot.keys.capacity() * 2);
         slot.triangles.reserve(slot.triangles.capacity() * 2);
