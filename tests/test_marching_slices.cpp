@@ -3,6 +3,7 @@
 // count; bad settings and inputs rejected.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -127,12 +128,17 @@ TEST(MarchingTables, EveryCaseIsAClosedConsistentPatch) {
     EXPECT_EQ(t.triangle_count[255], 0);
     for (int m = 1; m < 255; ++m) {
         ASSERT_GT(t.triangle_count[m], 0) << m;
-        // Inside the cube every directed edge of the patch is matched by its reverse, except along
-        // the cube faces: the patch boundary. Each crossed cube edge carries exactly two patch
-        // boundary points, so the triangle edges between distinct cube edges balance per pair.
+        // The triangles use exactly the crossed edges.
         int used = 0;
         for (int i = 0; i < t.triangle_count[m] * 3; ++i) used |= 1 << t.triangles[m][i];
         EXPECT_EQ(used, t.edge_mask[m]) << m;
+        // Within the cube the patch is oriented and manifold: no directed edge twice.
+        std::vector<std::pair<int, int>> directed;
+        for (int i = 0; i < t.triangle_count[m]; ++i)
+            for (int k = 0; k < 3; ++k)
+                directed.emplace_back(t.triangles[m][i * 3 + k], t.triangles[m][i * 3 + (k + 1) % 3]);
+        std::sort(directed.begin(), directed.end());
+        EXPECT_EQ(std::adjacent_find(directed.begin(), directed.end()), directed.end()) << m;
         // A crossed cube edge joins an inside and an outside corner.
         for (int e = 0; e < 12; ++e) {
             const bool a = (m >> t.edge_corner[e][0]) & 1, b = (m >> t.edge_corner[e][1]) & 1;
