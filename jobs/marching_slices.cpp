@@ -8,7 +8,7 @@ namespace rivulet {
 
 BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& s, const BlockMeshOut& out) {
+                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive) {
     const MarchingTables& mt = marching_tables();
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n, n1 = n + 1, cols = n1 * n1;
@@ -47,18 +47,17 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     // ---- seeds 1: walk down from each particle's nearest corner ----
     std::fill(s.walk_lo.begin(), s.walk_lo.end(), 0);
     std::fill(s.walk_hi.begin(), s.walk_hi.end(), -1);
-    for (std::size_t q = 0; q < particles.size(); ++q) {
-        const std::int32_t li = SliceGrid::cell(particles.x[q] + 0.5f * g.voxel, g.ox, g.voxel) - i0;
-        const std::int32_t lj = SliceGrid::cell(particles.y[q] + 0.5f * g.voxel, g.oy, g.voxel) - j0;
-        std::int32_t lk = SliceGrid::cell(particles.z[q] + 0.5f * g.voxel, g.oz, g.voxel) - k0;
-        if (li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n)) continue;
+    // Walks down from local corner (li, lj, lk) (clamped to the top slice); false when that corner is
+    // outside the block's columns or outside the fluid.
+    auto walk = [&](std::int32_t li, std::int32_t lj, std::int32_t lk) {
+        if (li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n)) return false;
         lk = std::min(lk, std::int32_t(n));
         const std::uint32_t col = static_cast<std::uint32_t>(lj) * n1 + static_cast<std::uint32_t>(li);
         std::int32_t& run_lo = s.walk_lo[col];
         std::int32_t& run_hi = s.walk_hi[col];
-        if (lk >= run_lo && lk <= run_hi) continue;  // inside a run already walked
+        if (lk >= run_lo && lk <= run_hi) return true;  // inside a run already walked
         const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
-        if (field(ui, uj, static_cast<std::uint32_t>(lk)) < iso) continue;
+        if (field(ui, uj, static_cast<std::uint32_t>(lk)) < iso) return false;
         std::int32_t k = lk - 1;
         for (; k >= 0; --k) {
             if (k >= run_lo && k <= run_hi) break;
@@ -66,14 +65,46 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         }
         if (k >= 0 && k >= run_lo && k <= run_hi) {  // joined the known run: same crossing below
             run_hi = std::max(run_hi, lk);
-            continue;
+            return true;
         }
         run_lo = k + 1, run_hi = lk;
-        if (k < 0) continue;  // left through the block bottom: the face scan covers it
+        if (k < 0) return true;  // left through the block bottom: the face scan covers it
         for (std::int32_t dj = -1; dj <= 0; ++dj)
             for (std::int32_t di = -1; di <= 0; ++di) push(li + di, lj + dj, k);
         ++st.seeds;
+        return true;
+    };
+    const float half = 0.5f * g.voxel;
+    for (std::size_t q = 0; q < particles.size(); ++q) {
+        const float x = particles.x[q], y = particles.y[q], z = particles.z[q];
+        const std::int32_t li = SliceGrid::cell(x + half, g.ox, g.voxel) - i0,
+                           lj = SliceGrid::cell(y + half, g.oy, g.voxel) - j0,
+                           lk = SliceGrid::cell(z + half, g.oz, g.voxel) - k0;
+        if (walk(li, lj, lk)) continue;
+        if (li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n)) continue;
+        // The nearest corner is outside the fluid (a coarse voxel, a thin part): try the other corners
+        // of the cube holding the centre.
+        const std::int32_t ci = SliceGrid::cell(x, g.ox, g.voxel) - i0,
+                           cj = SliceGrid::cell(y, g.oy, g.voxel) - j0,
+                           ck = SliceGrid::cell(z, g.oz, g.voxel) - k0;
+        for (std::int32_t c = 0; c < 8; ++c)
+            if (walk(ci + (c & 1), cj + ((c >> 1) & 1), ck + ((c >> 2) & 1))) break;
     }
+
+    // ---- optional seeds 3: every sign change on every z column (finds empty cavities too) ----
+    if (exhaustive)
+        for (std::uint32_t j = 0; j <= n; ++j)
+            for (std::uint32_t i = 0; i <= n; ++i) {
+                bool below = field(i, j, 0) >= iso;
+                for (std::uint32_t k = 1; k <= n; ++k) {
+                    const bool here = field(i, j, k) >= iso;
+                    if (here != below)
+                        for (std::int32_t dj = -1; dj <= 0; ++dj)
+                            for (std::int32_t di = -1; di <= 0; ++di)
+                                push(std::int32_t(i) + di, std::int32_t(j) + dj, std::int32_t(k) - 1);
+                    below = here;
+                }
+            }
 
     // ---- seeds 2: every block face the surface can cross ----
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};

@@ -9,7 +9,9 @@
 // Seeds, all found before the sweep:
 //  1. the O(P) heuristic: from the corner nearest each particle's centre, walk down the column to the
 //     first outside corner; the cubes around that crossing are seeds (a per-column memo of the inside
-//     run already walked keeps this linear). Particles above the block start at its top slice.
+//     run already walked keeps this linear). Particles above the block start at its top slice. When the
+//     nearest corner is outside the fluid (coarse voxels, thin parts), the walk starts from the first
+//     inside corner of the cube holding the centre instead.
 //  2. completeness: the heuristic finds a piece of surface below each particle, but not every piece that
 //     lies in this block (e.g. the top of a body whose bottom is in a lower block, or a piece the walk
 //     never meets); so every face of the block that can carry surface (not on the grid's outer
@@ -68,8 +70,10 @@ struct SliceScratchSizes {
           columns(std::size_t(n + 1) * (n + 1)) {}
 };
 
+// `exhaustive`: also seed from every sign change along every z column of the block ((n+1)^3 corner
+// evaluations), which finds every component, empty cavities included, like plain marching cubes.
 BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& scratch, const BlockMeshOut& out);
+                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false);
 
 }  // namespace rivulet

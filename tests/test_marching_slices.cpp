@@ -3,10 +3,13 @@
 // count; bad settings and inputs rejected.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
+#include "jobs/bin_sort.h"
+#include "jobs/block_bins.h"
 #include "jobs/marching_tables.h"
 #include "jobs/mesh_hash.h"
 #include "runtime/lib/frame_graph.h"
@@ -125,18 +128,49 @@ TEST(MarchingTables, EveryCaseIsAClosedConsistentPatch) {
     EXPECT_EQ(t.triangle_count[255], 0);
     for (int m = 1; m < 255; ++m) {
         ASSERT_GT(t.triangle_count[m], 0) << m;
-        // Inside the cube every directed edge of the patch is matched by its reverse, except along
-        // the cube faces: the patch boundary. Each crossed cube edge carries exactly two patch
-        // boundary points, so the triangle edges between distinct cube edges balance per pair.
+        // The triangles use exactly the crossed edges.
         int used = 0;
         for (int i = 0; i < t.triangle_count[m] * 3; ++i) used |= 1 << t.triangles[m][i];
         EXPECT_EQ(used, t.edge_mask[m]) << m;
+        // Within the cube the patch is oriented and manifold: no directed edge twice.
+        std::vector<std::pair<int, int>> directed;
+        for (int i = 0; i < t.triangle_count[m]; ++i)
+            for (int k = 0; k < 3; ++k)
+                directed.emplace_back(t.triangles[m][i * 3 + k], t.triangles[m][i * 3 + (k + 1) % 3]);
+        std::sort(directed.begin(), directed.end());
+        EXPECT_EQ(std::adjacent_find(directed.begin(), directed.end()), directed.end()) << m;
         // A crossed cube edge joins an inside and an outside corner.
         for (int e = 0; e < 12; ++e) {
             const bool a = (m >> t.edge_corner[e][0]) & 1, b = (m >> t.edge_corner[e][1]) & 1;
             EXPECT_EQ(a != b, ((t.edge_mask[m] >> e) & 1) != 0) << m << " edge " << e;
         }
     }
+}
+
+TEST(BlockBins, DefaultsListAParticleInAtMostEightBlocksInIndexOrder) {
+    const Cloud c = blobs(4, 6, 200, 0.05f);
+    SlicesExtractor ex(settings_for(0.05f, 16), c.size());
+    ex.begin_frame(c.pos());
+    EXPECT_LE(max_blocks_per_particle(ex.grid()), 8u);
+    std::vector<std::uint32_t> per_particle(c.size());
+    for (std::size_t i = 0; i < c.size(); ++i) {
+        const ParticleReach r = particle_reach(ex.grid(), c.x[i], c.y[i], c.z[i]);
+        std::uint32_t blocks = 1;
+        for (int a = 0; a < 3; ++a) blocks *= std::uint32_t(r.bhi[a] - r.blo[a] + 1);
+        EXPECT_GE(blocks, 1u);
+        EXPECT_LE(blocks, 8u);
+    }
+    // Counted per chunk, prefixed, scattered: ascending particle index within each block.
+    std::vector<std::uint32_t> counts(ex.grid().blocks()), cursors(ex.grid().blocks()),
+        offsets(ex.grid().blocks() + 1);
+    block_count_chunk(ex.grid(), c.pos(), counts);
+    const std::uint32_t total = bin_prefix(ex.grid().blocks(), 1, counts, cursors, offsets);
+    std::vector<std::uint32_t> entries(total);
+    std::vector<float> ex_(total), ey(total), ez(total);
+    block_scatter_chunk(ex.grid(), c.pos(), 0, cursors, {entries, ex_, ey, ez});
+    for (std::uint32_t b = 0; b < ex.grid().blocks(); ++b)
+        for (std::uint32_t e = offsets[b] + 1; e < offsets[b + 1]; ++e) EXPECT_LT(entries[e - 1], entries[e]);
+    EXPECT_GE(total, c.size());
 }
 
 TEST(MarchingSlices, MatchesBruteForceOnRandomBlobs) {
@@ -171,6 +205,26 @@ TEST(MarchingSlices, WatertightAcrossBlockBordersForBlockSizes8To32) {
     expect_matches_reference(c, settings_for(0.1f, 8));
 }
 
+TEST(MarchingSlices, ExhaustiveSeedsFindEmptyCavitiesToo) {
+    // A jittered lattice 2 radii apart holds small bubbles of F < iso that enclose no particle. The
+    // default seeds need not find those lying inside one block; exhaustive seeds match the oracle.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> jitter(-0.03f, 0.03f);
+    Cloud c;
+    for (int k = 0; k < 7; ++k)
+        for (int j = 0; j < 7; ++j)
+            for (int i = 0; i < 7; ++i)
+                c.add(0.2f * float(i) + jitter(rng), 0.2f * float(j) + jitter(rng),
+                      0.2f * float(k) + jitter(rng));
+    SlicesSettings s = settings_for(0.1f, 16);
+    const Extracted fast = extract(c, s);
+    s.exhaustive_seeds = true;
+    expect_matches_reference(c, s);
+    const Extracted full = extract(c, s);
+    EXPECT_LT(fast.mesh.triangle_count(), full.mesh.triangle_count()) << "this cloud has cavities";
+    EXPECT_EQ(test::count_open_edges(positions_of(fast.mesh), indices_of(fast.mesh)), 0u);
+}
+
 TEST(MarchingSlices, FindsSurfaceTheWalkCannotReach) {
     // One block (n = 64): no face seeds, so the walk must carry everything. A dome of particles (a
     // hemispherical shell, open at the bottom): walks from the top hit the inner ceiling, a local maximum;
@@ -189,6 +243,26 @@ TEST(MarchingSlices, FindsSurfaceTheWalkCannotReach) {
     expect_matches_reference(dome, settings_for(0.1f, 8));
     const Extracted e = extract(dome, settings_for(0.1f, 64));
     EXPECT_LT(e.stats.peak_slices, e.grid.n + 1) << "caches released as the sweep passes";
+}
+
+TEST(MarchingSlices, FindsSmallComponentsOnCoarseGrids) {
+    // Lone particles and close pairs with voxels of 1.5 and 2 radii: a component may hold a single
+    // corner, and for a pair it need not be the corner nearest either centre.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> where(0.0f, 4.0f), dir(-1.0f, 1.0f);
+    Cloud c;
+    for (int i = 0; i < 60; ++i) {
+        const float x = where(rng), y = where(rng), z = where(rng);
+        c.add(x, y, z);
+        if (i % 2) continue;
+        float d[3] = {dir(rng), dir(rng), dir(rng)};
+        const float len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + 1e-6f;
+        c.add(x + 0.2f * d[0] / len, y + 0.2f * d[1] / len, z + 0.2f * d[2] / len);
+    }
+    for (float voxel : {0.15f, 0.2f, 0.25f}) {
+        expect_matches_reference(c, settings_for(0.1f, 8, voxel));
+        expect_matches_reference(c, settings_for(0.1f, 32, voxel));
+    }
 }
 
 TEST(MarchingSlices, OneParticleGivesASphereOfTheExpectedRadius) {
@@ -289,4 +363,14 @@ TEST(MarchingSlices, RejectsBadSettingsAndInputs) {
     Cloud one;
     one.add(0, 0, 0);
     EXPECT_THROW(small.extract_serial(one.pos(), m), std::length_error);
+    SlicesSettings few_blocks = settings_for(0.05f, 8);
+    few_blocks.max_blocks = 2;
+    const Cloud spread = blobs(9, 3, 10, 0.05f);
+    SlicesExtractor limited(few_blocks, spread.size());
+    try {
+        limited.extract_serial(spread.pos(), m);
+        ADD_FAILURE() << "block limit not reported";
+    } catch (const std::length_error& e) {
+        EXPECT_NE(std::string(e.what()).find("limit of 2"), std::string::npos) << e.what();
+    }
 }

@@ -68,8 +68,9 @@ TEST(SceneJson, ContainerMotionScriptsASineOffset) {
     SceneDesc s = make_builtin_scene("faucet");
     s.dt = 0.01f;
     s.container_motion = {{0.1f, 0, 0}, 1.0f};  // 1 Hz: a quarter period is 25 frames
-    EXPECT_NEAR(scripted_inputs(s, 25).container_offset.x, 0.1f, 1e-6f);
-    EXPECT_NEAR(scripted_inputs(s, 50).container_offset.x, 0.0f, 1e-6f);
-    EXPECT_NEAR(scripted_inputs(s, 75).container_offset.x, -0.1f, 1e-6f);
-    EXPECT_EQ(scripted_inputs(s, 25).emitter_scale, 1.0f);
+    // The offset is the container's pose at the end of the frame: t = (frame + 1) dt.
+    EXPECT_NEAR(scripted_inputs(s, 24).container_offset.x, 0.1f, 1e-6f);
+    EXPECT_NEAR(scripted_inputs(s, 49).container_offset.x, 0.0f, 1e-6f);
+    EXPECT_NEAR(scripted_inputs(s, 74).container_offset.x, -0.1f, 1e-6f);
+    EXPECT_EQ(scripted_inputs(s, 24).emitter_scale, 1.0f);
 }

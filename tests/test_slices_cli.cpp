@@ -82,6 +82,13 @@ TEST(SlicesCli, MeshWritesAMeshAndItsJson) {
         run_cli("mesh " + in + " --method slices --radius 0.03 --block 8 --threads 1 --json " + json1).status,
         0);
     EXPECT_EQ(read_json(json1)["mesh_hash"], j["mesh_hash"]);
+    // A dense blob holds no empty cavity: exhaustive seeds give the same mesh.
+    const std::string json2 = rivulet::test::temp_path("slices2.json");
+    ASSERT_EQ(
+        run_cli("mesh " + in + " --method slices --radius 0.03 --block 8 --exhaustive-seeds --json " + json2)
+            .status,
+        0);
+    EXPECT_EQ(read_json(json2)["triangles"], j["triangles"]);
 }
 
 TEST(SlicesCli, MeshRunsOverANumberedSequence) {

@@ -24,6 +24,15 @@
 namespace rivulet {
 namespace {
 
+// The built-in scenes whose particles come from stream emitters (the others are SPH).
+std::vector<std::string_view> stream_scene_names() {
+    std::vector<std::string_view> names;
+    for (std::string_view n : builtin_scene_names())
+        if (make_builtin_scene(n).simulation == SimulationKind::kStreams) names.push_back(n);
+    return names;
+}
+
+
 std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t bytes) {
     const auto* b = static_cast<const unsigned char*>(data);
     for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
@@ -77,7 +86,7 @@ float sample_at(const HeightFieldView& v, int ix, int iz) {
 }
 
 TEST(StreamSim, AnyIntegrateSplitGivesBitIdenticalFrames) {
-    for (std::string_view name : builtin_scene_names()) {
+    for (std::string_view name : stream_scene_names()) {
         const SceneDesc scene = make_builtin_scene(name);
         StreamSimulation whole(scene), split(scene);
         ParticleSet a(scene.max_particles), b(scene.max_particles);
@@ -334,7 +343,7 @@ struct SteadyRange {
 
 TEST(BuiltinScenes, ReachTheirSteadyStateWithinWarmup) {
     const SteadyRange ranges[] = {{"fountain", 7000, 9000}, {"faucet", 3000, 8000}, {"hose", 4000, 8000}};
-    ASSERT_EQ(builtin_scene_names().size(), std::size(ranges));
+    ASSERT_EQ(stream_scene_names().size(), std::size(ranges));
     for (const SteadyRange& r : ranges) {
         const SceneDesc s = make_builtin_scene(r.name);
         EXPECT_EQ(s.name, r.name);
@@ -357,7 +366,7 @@ TEST(BuiltinScenes, ReachTheirSteadyStateWithinWarmup) {
 
 TEST(BuiltinScenes, CameraFramesTheStreamsAndThePool) {
     constexpr int kWidth = 1280, kHeight = 720;
-    for (std::string_view name : builtin_scene_names()) {
+    for (std::string_view name : stream_scene_names()) {
         const SceneDesc s = make_builtin_scene(name);
         StreamSimulation sim(s);
         ParticleSet ps(s.max_particles);
@@ -377,6 +386,25 @@ TEST(BuiltinScenes, CameraFramesTheStreamsAndThePool) {
             }
         }
         EXPECT_GT(right - left, 0.1f * kWidth) << name << ": the action is a speck";
+    }
+}
+
+TEST(BuiltinScenes, SphScenesFrameTheirWholeTank) {
+    constexpr int kWidth = 1280, kHeight = 720;
+    for (std::string_view name : {"dambreak", "drop", "slosh"}) {
+        const SceneDesc s = make_builtin_scene(name);
+        ASSERT_EQ(s.simulation, SimulationKind::kSph) << name;
+        const BoxCollider& b = s.sph.bounds;
+        float px = 0, py = 0, left = kWidth, right = 0;
+        for (int corner = 0; corner < 8; ++corner) {
+            const Vec3f c{corner & 1 ? b.max.x : b.min.x, corner & 2 ? b.max.y : b.min.y,
+                          corner & 4 ? b.max.z : b.min.z};
+            ASSERT_TRUE(project_to_pixel(s.camera, kWidth, kHeight, c, px, py)) << name << " corner " << corner;
+            left = std::min(left, px), right = std::max(right, px);
+        }
+        EXPECT_GT(right - left, 0.4f * kWidth) << name << ": the tank is small in the picture";
+        EXPECT_EQ(s.particle_radius, 0.5f * s.sph.spacing) << name;
+        EXPECT_GE(s.max_particles, sph_seed_count(s.sph)) << name;
     }
 }
 

@@ -65,6 +65,7 @@ int run(const MeshOptions& o) {
     req.scan = o.scan.resolve();
     req.slices.voxel = o.slices.voxel;
     req.slices.block_cubes = o.slices.block;
+    req.slices.exhaustive_seeds = o.slices.exhaustive;
     if (o.method == "slices" && o.radius > 0) {
         SlicesSettings probe = req.slices;
         probe.radius = o.radius;

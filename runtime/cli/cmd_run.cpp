@@ -72,6 +72,7 @@ int run(const RunOptions& o) {
     config.scan = o.scan.resolve();
     config.slices.voxel = o.slices.voxel;
     config.slices.block_cubes = o.slices.block;
+    config.slices.exhaustive_seeds = o.slices.exhaustive;
     config.render = !o.no_render;
     config.pipelined = !o.no_pipeline;
     config.out_dir = o.no_render ? "" : o.out;

@@ -30,10 +30,11 @@ struct ScanOptions {
 void add_method_option(CLI::App& cmd, std::string& method);
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help);
 
-// Options of marching slices shared by `run` and `mesh` (--voxel, --block).
+// Options of marching slices shared by `run` and `mesh` (--voxel, --block, --exhaustive-seeds).
 struct SlicesOptions {
     float voxel = 0;
     std::uint32_t block = 16;
+    bool exhaustive = false;
     void add_to(CLI::App& cmd);
 };
 

@@ -73,6 +73,9 @@ void SlicesOptions::add_to(CLI::App& cmd) {
     cmd.add_option("--block", block, "Marching slices: cubes per block edge (n, a block is n^3 cubes)")
         ->capture_default_str()
         ->check(CLI::Range(2, 128));
+    cmd.add_flag("--exhaustive-seeds", exhaustive,
+                 "Marching slices: also seed from every grid column, so empty cavities (bubbles holding no "
+                 "particle) are found too; slower");
 }
 
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help) {

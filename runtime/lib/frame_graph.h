@@ -12,6 +12,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace rivulet {
@@ -41,7 +42,9 @@ class FrameGraph {
     // are done. `item` is called as item(std::size_t); it is not copied, so nothing allocates.
     template <class F>
     void run_nested(JobId j, std::size_t n, F&& item) {
-        run_nested_items(j, n, ItemRef{&item, [](void* f, std::size_t i) { (*static_cast<F*>(f))(i); }});
+        using Fn = std::remove_reference_t<F>;
+        void* fn = const_cast<void*>(static_cast<const void*>(std::addressof(item)));
+        run_nested_items(j, n, ItemRef{fn, [](void* f, std::size_t i) { (*static_cast<Fn*>(f))(i); }});
     }
 
     // A job that throws stops the frame's remaining jobs; wait() rethrows the first exception.

@@ -1,5 +1,6 @@
 #include "runtime/lib/frame_pipeline.h"
 
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 #include <algorithm>
 #include <chrono>
@@ -76,6 +77,8 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
         SlicesSettings ss = config_.slices;
         ss.radius = scene_.particle_radius;
         slices_ = std::make_unique<SlicesExtractor>(ss, scene_.max_particles);
+        // Scratch for every thread that may run a block, so no frame allocates it later.
+        slices_->reserve_scratch(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
     }
     for (FrameSlot& slot : slots_) {
         scan_->prepare_output(slot.scan);

@@ -1,6 +1,8 @@
 #include "runtime/lib/scene_simulation.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace rivulet {
 namespace {
@@ -12,8 +14,26 @@ constexpr std::size_t kSimChunk = 4096;
 
 SceneSimulation::SceneSimulation(const SceneDesc& scene, InputSource inputs)
     : scene_(scene), inputs_(std::move(inputs)) {
-    stream_ = std::make_unique<StreamSimulation>(scene_);
+    if (scene_.simulation == SimulationKind::kStreams) {
+        stream_ = std::make_unique<StreamSimulation>(scene_);
+        particles_.reserve(scene_.max_particles);
+        return;
+    }
+    // The scene's own fields are the truth for what every simulation shares.
+    SphDesc desc = scene_.sph;
+    desc.name = scene_.name;
+    desc.gravity = scene_.gravity;
+    desc.dt = scene_.dt;
+    desc.spheres = scene_.spheres;
+    desc.boxes = scene_.boxes;
+    const std::size_t needed = sph_seed_count(desc);
+    if (needed == 0) throw std::invalid_argument("scene '" + scene_.name + "': its SPH fluid holds no particles");
+    if (needed > scene_.max_particles)
+        throw std::invalid_argument("scene '" + scene_.name + "': its SPH fluid needs " + std::to_string(needed) +
+                                    " particles but max_particles is " + std::to_string(scene_.max_particles));
+    sph_ = std::make_unique<SphSimulation>(desc, scene_.max_particles);
     particles_.reserve(scene_.max_particles);
+    sph_->seed(particles_);
 }
 
 SceneSimulation::~SceneSimulation() = default;
@@ -21,33 +41,69 @@ SceneSimulation::~SceneSimulation() = default;
 void SceneSimulation::begin_frame() {
     last_frame_ = next_frame_;
     last_inputs_ = inputs_ ? inputs_(last_frame_) : scripted_inputs(scene_, last_frame_);
+    if (sph_) {
+        sph_->set_container_offset(last_inputs_.container_offset);
+        substeps_ = sph_->begin_frame(particles_, last_frame_);
+        return;
+    }
     stream_->set_inputs(last_inputs_);
     stream_->begin_frame(particles_, last_frame_);
 }
 
 void SceneSimulation::end_frame() {
-    stream_->end_frame(particles_);
+    if (sph_) {
+        sph_->end_frame(particles_);
+    } else {
+        stream_->end_frame(particles_);
+    }
     next_frame_ = last_frame_ + 1;
 }
 
-FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,
-                                            std::initializer_list<FrameGraph::JobId> after) {
-    const auto begin = graph.serial(
-        "simulate.begin", [this] { begin_frame(); }, after);
-    const auto integrate = graph.parallel(
-        "simulate.integrate", [this] { return (particles_.size() + kSimChunk - 1) / kSimChunk; },
-        [this](std::size_t c) {
-            const std::size_t b = c * kSimChunk;
-            stream_->integrate(particles_, b, std::min(particles_.size(), b + kSimChunk));
-        },
-        {begin});
-    return graph.serial("simulate.end", [this] { end_frame(); }, {integrate});
+// Every substep runs the phases in order; `run_items(phase, n, item)` runs items [0, n) of a phase.
+template <class RunItems>
+void SceneSimulation::sph_substeps(RunItems&& run_items) {
+    const auto phases = sph_->phases();
+    for (int s = 0; s < substeps_; ++s)
+        for (std::size_t p = 0; p < phases.size(); ++p)
+            run_items(p, phases[p].parallel ? sph_->chunks() : std::size_t{1},
+                      [this, p](std::size_t c) { sph_->run_phase(p, c, particles_); });
+}
+
+FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph, std::initializer_list<FrameGraph::JobId> after) {
+    const auto begin = graph.serial("simulate.begin", [this] { begin_frame(); }, after);
+    FrameGraph::JobId body = 0;
+    if (sph_) {
+        body = graph.serial(
+            "simulate.sph",
+            [this, &graph] {
+                sph_substeps([this, &graph](std::size_t p, std::size_t n, const auto& item) {
+                    graph.run_nested(sph_phase_jobs_[p], n, item);
+                });
+            },
+            {begin});
+        for (const SphPhase& phase : sph_->phases()) sph_phase_jobs_.push_back(graph.nested(phase.name, body));
+    } else {
+        body = graph.parallel(
+            "simulate.integrate", [this] { return (particles_.size() + kSimChunk - 1) / kSimChunk; },
+            [this](std::size_t c) {
+                const std::size_t b = c * kSimChunk;
+                stream_->integrate(particles_, b, std::min(particles_.size(), b + kSimChunk));
+            },
+            {begin});
+    }
+    return graph.serial("simulate.end", [this] { end_frame(); }, {body});
 }
 
 void SceneSimulation::step_serial(int frames) {
     for (int i = 0; i < frames; ++i) {
         begin_frame();
-        stream_->integrate(particles_, 0, particles_.size());
+        if (sph_) {
+            sph_substeps([](std::size_t, std::size_t n, const auto& item) {
+                for (std::size_t c = 0; c < n; ++c) item(c);
+            });
+        } else {
+            stream_->integrate(particles_, 0, particles_.size());
+        }
         end_frame();
     }
 }

@@ -5,12 +5,14 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "runtime/lib/frame_graph.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/frame_view.h"
 #include "systems/scenes/frame_inputs.h"
 #include "systems/scenes/scene.h"
+#include "systems/sim/sph_simulation.h"
 #include "systems/sim/stream_sim.h"
 
 namespace rivulet {
@@ -24,8 +26,10 @@ class SceneSimulation {
     SceneSimulation(const SceneDesc& scene, InputSource inputs = {});
     ~SceneSimulation();
 
-    // Adds simulate.begin / simulate.integrate / simulate.end after `after`; returns the last job. Each
-    // run of the graph simulates frame frame() and then advances it.
+    // Adds the simulation's jobs after `after`; returns the last. Streams: simulate.begin ->
+    // simulate.integrate* -> simulate.end. SPH: simulate.begin -> simulate.sph (its substeps, each running
+    // the nested jobs sph.grid_count*, ..., sph.integrate*) -> simulate.end. Each run of the graph
+    // simulates frame next_frame() and then advances it.
     FrameGraph::JobId add_jobs(FrameGraph& graph, std::initializer_list<FrameGraph::JobId> after = {});
     // Simulates `frames` frames serially (warm-up; tools).
     void step_serial(int frames);
@@ -35,17 +39,24 @@ class SceneSimulation {
     std::uint64_t next_frame() const { return next_frame_; }
     std::uint64_t last_frame() const { return last_frame_; }
     const FrameInputs& last_inputs() const { return last_inputs_; }
-    HeightFieldView pool_view() const { return stream_->pool_view(); }
+    HeightFieldView pool_view() const { return stream_ ? stream_->pool_view() : HeightFieldView{}; }
+    // SPH: substeps of the last frame (0 for streams).
+    int last_substeps() const { return substeps_; }
     const SceneDesc& scene() const { return scene_; }
 
   private:
     void begin_frame();
     void end_frame();
+    template <class RunItems>
+    void sph_substeps(RunItems&& run_items);
 
     SceneDesc scene_;
     InputSource inputs_;
     ParticleSet particles_;
-    std::unique_ptr<StreamSimulation> stream_;
+    std::unique_ptr<StreamSimulation> stream_;  // one of the two
+    std::unique_ptr<SphSimulation> sph_;
+    int substeps_ = 0;
+    std::vector<FrameGraph::JobId> sph_phase_jobs_;
     std::uint64_t next_frame_ = 0, last_frame_ = 0;
     FrameInputs last_inputs_;
 };

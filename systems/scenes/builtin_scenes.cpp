@@ -1,6 +1,7 @@
 // The stream scenes of seed 000 §3: a radial fountain (Figure 12), a faucet and a garden hose, each
 // falling into a height-field pool. Rates are tuned so the live count (rate x flight time) matches the
 // particle counts of the paper's Table 1.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -8,12 +9,13 @@
 #include <string>
 
 #include "systems/scenes/scene.h"
+#include "systems/sim/sph_scenes.h"
 
 namespace rivulet {
 
 namespace {
 
-constexpr std::array<std::string_view, 3> kNames = {"fountain", "faucet", "hose"};
+constexpr std::array<std::string_view, 6> kNames = {"fountain", "faucet", "hose", "dambreak", "drop", "slosh"};
 
 constexpr float deg(float degrees) {
     return degrees * std::numbers::pi_v<float> / 180.0f;
@@ -130,6 +132,37 @@ SceneDesc hose() {
     return s;
 }
 
+// An SPH scene (seed 002 §III) around a fluid desc of systems/sim/sph_scenes.h: the desc's own motion
+// becomes the scene's container motion (scripted per-frame inputs, so recordings carry it), the particle
+// radius is half the lattice spacing, and the camera looks at the tank from the front and above.
+SceneDesc sph_scene(std::string name, SphDesc d) {
+    SceneDesc s;
+    s.name = std::move(name);
+    s.simulation = SimulationKind::kSph;
+    s.container_motion = {d.container.axis * d.container.amplitude, d.container.frequency};
+    d.container.amplitude = 0;
+    s.particle_radius = 0.5f * d.spacing;
+    s.max_particles = static_cast<std::uint32_t>(sph_seed_count(d));
+    s.dt = d.dt;
+    s.gravity = d.gravity;
+    s.spheres = d.spheres;
+    s.boxes = d.boxes;
+    s.warmup_frames = 0;  // the interesting part is the start: the collapse, the fall, the first wave
+    s.lifetime = 1e6f;
+    const BoxCollider& b = d.bounds;
+    s.ground_y = b.min.y;
+    s.v_min = b.min.y - s.particle_radius;
+    s.v_max = b.max.y + s.particle_radius;
+    const Vec3f center = (b.min + b.max) * 0.5f;
+    const Vec3f size = b.max - b.min;
+    const float extent = std::max({size.x, size.y, size.z});
+    s.camera = {{center.x + 0.35f * extent, b.min.y + 1.0f * extent, b.max.z + 1.6f * extent},
+                {center.x, b.min.y + 0.25f * size.y, center.z},
+                40.0f};
+    s.sph = std::move(d);
+    return s;
+}
+
 }  // namespace
 
 std::span<const std::string_view> builtin_scene_names() {
@@ -140,6 +173,9 @@ SceneDesc make_builtin_scene(std::string_view name) {
     if (name == "fountain") return fountain();
     if (name == "faucet") return faucet();
     if (name == "hose") return hose();
+    if (name == "dambreak") return sph_scene("dambreak", make_dambreak());
+    if (name == "drop") return sph_scene("drop", make_drop());
+    if (name == "slosh") return sph_scene("slosh", make_slosh());
     std::string known;
     for (std::string_view n : kNames) known += (known.empty() ? "" : ", ") + std::string(n);
     throw std::invalid_argument("unknown scene '" + std::string(name) + "'; built-in scenes: " + known);

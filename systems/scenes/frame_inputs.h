@@ -19,8 +19,8 @@ inline bool operator==(const FrameInputs& a, const FrameInputs& b) {
            a.container_offset.z == b.container_offset.z && a.emitter_scale == b.emitter_scale;
 }
 
-// The inputs a scene scripts for itself: its container motion (offset = amplitude * sin(2 pi f t) at
-// t = frame * dt) and emitters always open.
+// The inputs a scene scripts for itself: its container motion (offset = amplitude * sin(2 pi f t) at the
+// frame's end, t = (frame + 1) * dt) and emitters always open.
 FrameInputs scripted_inputs(const SceneDesc& scene, std::uint64_t frame);
 
 }  // namespace rivulet

@@ -8,17 +8,10 @@
 #include <vector>
 
 #include "jobs/vec3.h"
+#include "systems/scenes/colliders.h"
+#include "systems/sim/sph_desc.h"
 
 namespace rivulet {
-
-struct SphereCollider {
-    Vec3f center;
-    float radius = 0;
-};
-
-struct BoxCollider {
-    Vec3f min, max;
-};
 
 // A nozzle: particles leave `position` (jittered within `nozzle_radius`) along `direction`, at `speed`,
 // inside a cone of half-angle `spread` radians, `rate` particles per second.
@@ -58,8 +51,16 @@ struct ContainerMotion {
     float frequency = 0;  // Hz; 0 = still
 };
 
+// Which simulation produces the particles: ballistic streams with a height-field pool (seed 000 §3), or
+// SPH fluid in a tank (seed 002 §III).
+enum class SimulationKind { kStreams, kSph };
+
 struct SceneDesc {
     std::string name;
+    SimulationKind simulation = SimulationKind::kStreams;
+    // SPH scenes: the fluid, its tank and the initial blocks. Gravity, dt, colliders (spheres, boxes) and
+    // the container's motion are the scene's own fields below and override the desc's copies.
+    SphDesc sph;
     float particle_radius = 0.02f;  // world units
     std::uint32_t max_particles = 16384;
     float dt = 1.0f / 60.0f;  // seconds per frame

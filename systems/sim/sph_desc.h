@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "jobs/vec3.h"
-#include "systems/scenes/scene.h"
+#include "systems/scenes/colliders.h"
 
 namespace rivulet {
 

@@ -81,6 +81,15 @@ SlicesExtractor::Scratch& SlicesExtractor::acquire_scratch() {
     return *s;
 }
 
+void SlicesExtractor::reserve_scratch(std::size_t workers) {
+    std::lock_guard<std::mutex> lock(scratch_mutex_);
+    while (scratch_.size() < workers) {
+        scratch_.push_back(std::make_unique<Scratch>(grid_));
+        free_scratch_.reserve(scratch_.size());
+        free_scratch_.push_back(scratch_.back().get());
+    }
+}
+
 void SlicesExtractor::release_scratch(Scratch& s) {
     std::lock_guard<std::mutex> lock(scratch_mutex_);
     free_scratch_.push_back(&s);
@@ -231,7 +240,8 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
         slot.sweep =
             march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
                         {slot.positions.span(slot.positions.capacity()), slot.keys.span(slot.keys.capacity()),
-                         slot.triangles.span(slot.triangles.capacity())});
+                         slot.triangles.span(slot.triangles.capacity())},
+                        settings_.exhaustive_seeds);
         if (!slot.sweep.overflow) break;
         slot.positions.reserve(slot.positions.capacity() * 2), slot.keys.reserve(slot.keys.capacity() * 2);
         slot.triangles.reserve(slot.triangles.capacity() * 2);

@@ -58,6 +58,10 @@ class SlicesExtractor {
     float voxel() const { return voxel_; }
     const SliceGrid& grid() const { return grid_; }
 
+    // Sweep scratch for `workers` blocks at once (otherwise grown on demand, one per concurrently running
+    // block, the first frames); call at setup with the thread count for an allocation-free first frame.
+    void reserve_scratch(std::size_t workers);
+
     // ---- per-frame jobs; `p` must be the same positions for every job of a frame ----
     void begin_frame(ConstPositions p);  // throws on too many particles, non-finite ones, grid limits
     std::uint32_t chunks() const { return chunks_; }

@@ -22,6 +22,9 @@ struct SlicesSettings {
     std::uint32_t max_blocks = 1u << 20;       // non-empty blocks a frame may have
     std::uint64_t max_triangles = 1ull << 26;  // triangles a frame may have
     std::uint32_t max_grid_cubes = 1u << 20;   // cubes along any axis
+    // Seed from every z column too: finds empty cavities (bubbles enclosing no particle) that the
+    // heuristic and the face scan can miss, at the cost of evaluating every corner (docs/marching_slices.md).
+    bool exhaustive_seeds = false;
 
     float voxel_size() const { return voxel > 0 ? voxel : 0.5f * radius; }
     float rc() const { return rc_factor * radius; }

@@ -8,7 +8,7 @@ template <class F>
 void members(SlicesSettings& s, F&& f) {
     f("radius", s.radius), f("voxel", s.voxel), f("block_cubes", s.block_cubes), f("rc_factor", s.rc_factor);
     f("iso", s.iso), f("max_blocks", s.max_blocks), f("max_triangles", s.max_triangles);
-    f("max_grid_cubes", s.max_grid_cubes);
+    f("max_grid_cubes", s.max_grid_cubes), f("exhaustive_seeds", s.exhaustive_seeds);
 }
 
 nlohmann::json slices_settings_to_json(const SlicesSettings& settings) {
