@@ -55,7 +55,9 @@ struct SphDesc {
     Vec3f gravity{0, -9.81f, 0};
     // Boundaries: the tank (free slip, moving with the container) and static colliders (free slip).
     SphContainer container;
-    bool wall_pressure = true;  // tank walls add density and push back (jobs/sph_density.h SphWalls)
+    // Tank walls as mirror images of the neighbours (jobs/sph_density.h SphWalls); off: only the hard
+    // constraint holds the fluid in (it then packs against the walls).
+    bool wall_pressure = true;
     std::vector<SphereCollider> spheres;
     std::vector<BoxCollider> boxes;
     // Initial fluid.
@@ -63,8 +65,8 @@ struct SphDesc {
     std::vector<SphFluidSphere> fluid_spheres;
     // Time: one frame is `dt`, split into substeps of equal length by the CFL condition
     // dt_sub <= cfl * h / (c0 + v_max), the force condition 0.25 sqrt(h / a_max) and the viscous
-    // condition 0.125 h^2 rho0 / mu, at most max_substeps (the frame's substeps are then shorter than
-    // the CFL step would allow only if max_substeps is too small; see docs/sph.md).
+    // condition 0.125 h^2 rho0 / mu, at most max_substeps. Simulated time always advances by dt per
+    // frame: if max_substeps is too small the substeps exceed those limits and the fluid can blow up.
     float dt = 1.0f / 60.0f;
     float cfl = 0.4f;
     int max_substeps = 64;
