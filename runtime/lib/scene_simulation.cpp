@@ -27,10 +27,12 @@ SceneSimulation::SceneSimulation(const SceneDesc& scene, InputSource inputs)
     desc.spheres = scene_.spheres;
     desc.boxes = scene_.boxes;
     const std::size_t needed = sph_seed_count(desc);
-    if (needed == 0) throw std::invalid_argument("scene '" + scene_.name + "': its SPH fluid holds no particles");
+    if (needed == 0)
+        throw std::invalid_argument("scene '" + scene_.name + "': its SPH fluid holds no particles");
     if (needed > scene_.max_particles)
-        throw std::invalid_argument("scene '" + scene_.name + "': its SPH fluid needs " + std::to_string(needed) +
-                                    " particles but max_particles is " + std::to_string(scene_.max_particles));
+        throw std::invalid_argument("scene '" + scene_.name + "': its SPH fluid needs " +
+                                    std::to_string(needed) + " particles but max_particles is " +
+                                    std::to_string(scene_.max_particles));
     sph_ = std::make_unique<SphSimulation>(desc, scene_.max_particles);
     particles_.reserve(scene_.max_particles);
     sph_->seed(particles_);
@@ -69,19 +71,21 @@ void SceneSimulation::sph_substeps(RunItems&& run_items) {
                       [this, p](std::size_t c) { sph_->run_phase(p, c, particles_); });
 }
 
-FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph, std::initializer_list<FrameGraph::JobId> after) {
-    const auto begin = graph.serial("simulate.begin", [this] { begin_frame(); }, after);
+FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,
+                                            std::initializer_list<FrameGraph::JobId> after) {
+    const auto begin = graph.serial(
+        "simulate.begin", [this] { begin_frame(); }, after);
     FrameGraph::JobId body = 0;
     if (sph_) {
-        body = graph.serial(
-            "simulate.sph",
-            [this, &graph] {
-                sph_substeps([this, &graph](std::size_t p, std::size_t n, const auto& item) {
-                    graph.run_nested(sph_phase_jobs_[p], n, item);
-                });
-            },
-            {begin});
-        for (const SphPhase& phase : sph_->phases()) sph_phase_jobs_.push_back(graph.nested(phase.name, body));
+        body = graph.serial("simulate.sph",
+                            [this, &graph] {
+                                sph_substeps([this, &graph](std::size_t p, std::size_t n, const auto& item) {
+                                    graph.run_nested(sph_phase_jobs_[p], n, item);
+                                });
+                            },
+                            {begin});
+        for (const SphPhase& phase : sph_->phases())
+            sph_phase_jobs_.push_back(graph.nested(phase.name, body));
     } else {
         body = graph.parallel(
             "simulate.integrate", [this] { return (particles_.size() + kSimChunk - 1) / kSimChunk; },

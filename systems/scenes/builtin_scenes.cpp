@@ -15,7 +15,8 @@ namespace rivulet {
 
 namespace {
 
-constexpr std::array<std::string_view, 6> kNames = {"fountain", "faucet", "hose", "dambreak", "drop", "slosh"};
+constexpr std::array<std::string_view, 6> kNames = {"fountain", "faucet", "hose",
+                                                    "dambreak", "drop",   "slosh"};
 
 constexpr float deg(float degrees) {
     return degrees * std::numbers::pi_v<float> / 180.0f;
@@ -153,12 +154,13 @@ SceneDesc sph_scene(std::string name, SphDesc d) {
     s.ground_y = b.min.y;
     s.v_min = b.min.y - s.particle_radius;
     s.v_max = b.max.y + s.particle_radius;
-    const Vec3f center = (b.min + b.max) * 0.5f;
+    // The tank fills most of the 40 degree field of view (its bounding sphere just about), seen from the
+    // front, right and above.
     const Vec3f size = b.max - b.min;
-    const float extent = std::max({size.x, size.y, size.z});
-    s.camera = {{center.x + 0.35f * extent, b.min.y + 1.0f * extent, b.max.z + 1.6f * extent},
-                {center.x, b.min.y + 0.25f * size.y, center.z},
-                40.0f};
+    const Vec3f target = (b.min + b.max) * 0.5f;
+    const float radius = 0.5f * length(size);
+    const float distance = 1.0f * radius / std::sin(deg(20));
+    s.camera = {target + normalize(Vec3f{0.35f, 0.6f, 1.0f}) * distance, target, 40.0f};
     s.sph = std::move(d);
     return s;
 }
