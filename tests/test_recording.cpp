@@ -127,7 +127,7 @@ TEST(Recording, ReplayMatchesAtOneAndTwoThreadsAndCatchesAPerturbedInputAtItsFra
 // The golden recordings were made with the commands in docs/recording.md; re-make them when a change to
 // the simulation or the surface is intended.
 TEST(Recording, GoldenRecordingsReplayIdenticallyAtOneAndTwoThreads) {
-    for (const char* name : {"fountain_scan", "faucet_scan", "faucet_slices"}) {
+    for (const char* name : {"fountain_scan", "faucet_scan", "faucet_slices", "dambreak_small_slices"}) {
         const std::string path = std::string(RIVULET_SOURCE_DIR) + "/tests/golden/" + name + ".rivrec";
         for (const char* threads : {"1", "2"}) {
             const test::Result res = test::run_cli("replay " + path + " --threads " + threads);
