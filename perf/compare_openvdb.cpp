@@ -11,13 +11,13 @@
 #include <openvdb/tools/ParticlesToLevelSet.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "runtime/lib/mesh_extraction.h"
 #include "runtime/lib/stage_summary.h"
@@ -126,12 +126,14 @@ int main(int argc, char** argv) {
     openvdb::initialize();
 
     std::vector<std::pair<std::string, ParticleCloud>> inputs;
-    for (int n : parse_ints(sizes)) inputs.emplace_back(fmt::format("dam block {}", n), dam_block(std::size_t(n), radius));
+    for (int n : parse_ints(sizes))
+        inputs.emplace_back(fmt::format("dam block {}", n), dam_block(std::size_t(n), radius));
     if (!splash.empty()) inputs.emplace_back("splash " + splash, read_particles(splash));
 
     nlohmann::json rows = nlohmann::json::array();
-    fmt::print("| input | particles | T | slices ms | slices tris | OpenVDB ms | OpenVDB tris | speedup | "
-               "mean dist ours->vdb | mean dist vdb->ours | p95 ours->vdb |\n");
+    fmt::print(
+        "| input | particles | T | slices ms | slices tris | OpenVDB ms | OpenVDB tris | speedup | "
+        "mean dist ours->vdb | mean dist vdb->ours | p95 ours->vdb |\n");
     fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const auto& [name, cloud] : inputs) {
         for (int t : parse_ints(threads)) {
@@ -155,17 +157,19 @@ int main(int argc, char** argv) {
                                         ours.mesh.vertices[6 * v + 2]);
             std::vector<openvdb::Vec3I> our_tris;
             for (std::size_t i = 0; i + 2 < ours.mesh.indices.size(); i += 3)
-                our_tris.emplace_back(ours.mesh.indices[i], ours.mesh.indices[i + 1], ours.mesh.indices[i + 2]);
+                our_tris.emplace_back(ours.mesh.indices[i], ours.mesh.indices[i + 1],
+                                      ours.mesh.indices[i + 2]);
             const auto xform = openvdb::math::Transform::createLinearTransform(ours.voxel);
-            const auto our_sdf = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, our_points, our_tris,
-                                                                                   kHalfWidth);
+            const auto our_sdf =
+                openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, our_points, our_tris, kHalfWidth);
             const Distance to_vdb = sample_distance(*vdb.grid, our_points);
             const Distance to_ours = sample_distance(*our_sdf, vdb.points);
             const double speedup = vdb_median / ours.total_ms;
-            fmt::print("| {} | {} | {} | {:.2f} | {} | {:.1f} | {} | {:.1f}x | {:.4f} r | {:.4f} r | {:.4f} r |\n",
-                       name, cloud.size(), t, ours.total_ms, ours.mesh.triangle_count(), vdb_median,
-                       vdb.triangle_count(), speedup, to_vdb.mean / radius, to_ours.mean / radius,
-                       to_vdb.p95 / radius);
+            fmt::print(
+                "| {} | {} | {} | {:.2f} | {} | {:.1f} | {} | {:.1f}x | {:.4f} r | {:.4f} r | {:.4f} r |\n",
+                name, cloud.size(), t, ours.total_ms, ours.mesh.triangle_count(), vdb_median,
+                vdb.triangle_count(), speedup, to_vdb.mean / radius, to_ours.mean / radius,
+                to_vdb.p95 / radius);
             std::fflush(stdout);
             rows.push_back({{"input", name},
                             {"particles", cloud.size()},

@@ -2,9 +2,6 @@
 // bytes at 1 and 2 threads, and bad input rejected with a clear message and a non-zero exit.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -15,31 +12,10 @@
 
 namespace {
 
-struct Result {
-    int status = -1;
-    std::string output;  // stdout and stderr together
-};
-
-Result run_cli(const std::string& args) {
-    Result r;
-    const std::string cmd = std::string(RIVULET_CLI) + " " + args + " 2>&1";
-    FILE* pipe = ::popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf{};
-    while (std::fgets(buf.data(), buf.size(), pipe)) r.output += buf.data();
-    const int raw = ::pclose(pipe);
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return r;
-}
-
-nlohmann::json read_json(const std::string& path) {
-    std::ifstream f(path);
-    return nlohmann::json::parse(f);
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    std::ofstream(path) << text;
-}
+using rivulet::test::read_json;
+using rivulet::test::Result;
+using rivulet::test::run_cli;
+using rivulet::test::write_text;
 
 // A blob of `n` particles around (cx, 0, 0).
 std::string blob_xyz(int n, float cx, unsigned seed) {

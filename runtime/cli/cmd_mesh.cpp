@@ -32,27 +32,19 @@ struct MeshOptions {
 nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
     nlohmann::json stages = nlohmann::json::object();
     for (const auto& [name, ms] : r.stage_ms) stages[name] = ms;
-    if (method == "slices")
-        return {{"particles", r.particles},
-                {"vertices", r.mesh.vertex_count()},
-                {"triangles", r.mesh.triangle_count()},
-                {"total_ms", r.total_ms},
-                {"stages", stages},
-                {"mesh_hash", hash_hex(r.hash)},
-                {"radius", r.radius},
-                {"voxel", r.voxel},
-                {"rc", r.rc},
-                {"iso", r.iso},
-                {"blocks", r.blocks}};
-    return {{"particles", r.particles},
-            {"vertices", r.mesh.vertex_count()},
-            {"triangles", r.mesh.triangle_count()},
-            {"total_ms", r.total_ms},
-            {"stages", stages},
-            {"mesh_hash", hash_hex(r.hash)},
-            {"radius", r.radius},
-            {"groups", r.groups},
-            {"isolated", r.isolated}};
+    nlohmann::json j = {{"particles", r.particles},
+                        {"vertices", r.mesh.vertex_count()},
+                        {"triangles", r.mesh.triangle_count()},
+                        {"total_ms", r.total_ms},
+                        {"stages", stages},
+                        {"mesh_hash", hash_hex(r.hash)},
+                        {"radius", r.radius}};
+    if (method == "slices") {
+        j["voxel"] = r.voxel, j["rc"] = r.rc, j["iso"] = r.iso, j["blocks"] = r.blocks;
+    } else {
+        j["groups"] = r.groups, j["isolated"] = r.isolated;
+    }
+    return j;
 }
 
 int run(const MeshOptions& o) {
