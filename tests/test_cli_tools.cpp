@@ -37,6 +37,15 @@ TEST(CliTools, RunAcceptsASceneFile) {
     EXPECT_NE(bad.output.find("substeps must be in [1, 64]"), std::string::npos) << bad.output;
 }
 
+TEST(CliTools, RunReportsACylinderPoolThatRanOut) {
+    const auto r = run_cli("run --frames 2 --warmup 30 --no-render --max-groups 2");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("the cylinder pool (--max-groups 2) ran out in 2 of 2 frames"), std::string::npos)
+        << r.output;
+    const auto ok = run_cli("run --frames 2 --warmup 30 --no-render");
+    EXPECT_EQ(ok.output.find("ran out"), std::string::npos) << ok.output;
+}
+
 TEST(CliTools, BadArgumentsAreClearErrors) {
     auto r = run_cli("simulate --scene lake --frames 2 --out " + rivulet::test::temp_path("x"));
     EXPECT_NE(r.status, 0);

@@ -164,6 +164,7 @@ void FramePipeline::finish_extract(int slot) {
         pending_.groups = s.scan.draw_count;
         pending_.isolated = s.scan.sphere_count;
         pending_.triangles = s.scan.triangles;
+        pending_.pool_exhausted = s.scan.pool_exhausted;
     }
     pending_.hash = s.hash;
     pending_.particle_hash = s.particle_hash;
