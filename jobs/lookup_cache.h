@@ -69,6 +69,32 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
     return sum;
 }
 
+// Whether F >= iso at local corner (i, j, k) (world z pz): the same sum as cache_field, stopped as soon as
+// it reaches iso. Exact: every term is >= 0 and float addition of a non-negative term never decreases a
+// sum, so a partial sum >= iso means the whole one is too. The face scan needs only this sign, and deep
+// inside the fluid a few terms settle it.
+inline bool cache_inside(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
+                         std::int32_t k, float px, float py, float pz, SliceKernel f, float iso) {
+    const std::uint32_t col = j * (n + 1) + i;
+    const ColumnEntry* e = c.entries.data() + c.offsets[col];
+    const ColumnEntry* end = c.entries.data() + c.offsets[col + 1];
+    std::size_t lo = 0, hi = static_cast<std::size_t>(end - e);
+    while (lo < hi) {  // the first entry whose slice range reaches k (ranges grow along the column)
+        const std::size_t m = (lo + hi) / 2;
+        if (e[m].max_z < k)
+            lo = m + 1;
+        else
+            hi = m;
+    }
+    float sum = 0.0f;
+    for (e += lo; e != end && e->min_z <= k; ++e) {
+        const float dx = e->x - px, dy = e->y - py, dz = e->z - pz;
+        sum += f(dx * dx + dy * dy + dz * dz);
+        if (sum >= iso) return true;
+    }
+    return sum >= iso;
+}
+
 // F at the local corners (i, j, k) of one column for every k in [k_lo, k_hi], written to out[k - k_lo];
 // pz[k - k_lo] is the world z of slice k. Bit-identical to cache_field at each corner: every corner adds
 // the same terms, computed by the same float expression, in the same (entry) order; only the loops are

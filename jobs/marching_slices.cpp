@@ -35,6 +35,17 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f);
     };
 
+    // F >= iso at a local corner, from a partial sum where that settles it (the face scan).
+    auto inside = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+        const std::int32_t gi = i0 + static_cast<std::int32_t>(i), gj = j0 + static_cast<std::int32_t>(j),
+                           gk = k0 + static_cast<std::int32_t>(k);
+        return cache_inside(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f,
+                            iso);
+    };
+    // World z of each slice, for column evaluations.
+    std::array<float, kMaxBlockCubes + 1> column_z{};
+    for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
+
     // ---- per-slab todo lists ----
     std::fill(s.todo_count.begin(), s.todo_count.end(), 0u);
     std::uint32_t lowest = n;  // lowest slab that may hold work
@@ -113,14 +124,15 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             }
 
     // ---- seeds 2: every block face the surface can cross ----
-    // s.faces[w * n1 + u] = F on face (a, side), u and w the next two axes after a. The x and y faces are
-    // made of whole z columns: those are evaluated a column at a time (bit-identical to field()).
-    std::array<float, kMaxBlockCubes + 1> column_z{}, column_f{};
-    for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
+    // s.faces[w * n1 + u] = 1 where F >= iso on face (a, side), else 0; u and w are the next two axes
+    // after a. The x and y faces are made of whole z columns, evaluated a column at a time; on the z faces
+    // only the sign matters, so each corner's sum stops as soon as it reaches iso.
+    std::array<float, kMaxBlockCubes + 1> column_f{};
     auto fill_face = [&](std::uint32_t a, std::uint32_t side) {
         if (a == 2) {
             for (std::uint32_t j = 0; j <= n; ++j)
-                for (std::uint32_t i = 0; i <= n; ++i) s.faces[j * n1 + i] = field(i, j, side * n);
+                for (std::uint32_t i = 0; i <= n; ++i)
+                    s.faces[j * n1 + i] = inside(i, j, side * n) ? 1.0f : 0.0f;
             return;
         }
         for (std::uint32_t t = 0; t <= n; ++t) {
@@ -129,7 +141,8 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
                          g.cx(i0 + static_cast<std::int32_t>(i)), g.cy(j0 + static_cast<std::int32_t>(j)),
                          column_z.data(), f, column_f.data());
             // a = 0: u = y (t), w = z; a = 1: u = z, w = x (t).
-            for (std::uint32_t k = 0; k <= n; ++k) s.faces[a == 0 ? k * n1 + t : t * n1 + k] = column_f[k];
+            for (std::uint32_t k = 0; k <= n; ++k)
+                s.faces[a == 0 ? k * n1 + t : t * n1 + k] = column_f[k] >= iso ? 1.0f : 0.0f;
         }
     };
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};
@@ -141,9 +154,9 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             fill_face(a, side);
             for (std::uint32_t cw = 0; cw < n; ++cw)
                 for (std::uint32_t cu = 0; cu < n; ++cu) {
-                    const bool i00 = s.faces[cw * n1 + cu] >= iso, i10 = s.faces[cw * n1 + cu + 1] >= iso,
-                               i01 = s.faces[(cw + 1) * n1 + cu] >= iso,
-                               i11 = s.faces[(cw + 1) * n1 + cu + 1] >= iso;
+                    const bool i00 = s.faces[cw * n1 + cu] != 0.0f, i10 = s.faces[cw * n1 + cu + 1] != 0.0f,
+                               i01 = s.faces[(cw + 1) * n1 + cu] != 0.0f,
+                               i11 = s.faces[(cw + 1) * n1 + cu + 1] != 0.0f;
                     if (i00 == i10 && i00 == i01 && i00 == i11) continue;
                     std::int32_t cube[3];
                     cube[a] = side ? std::int32_t(n) - 1 : 0;

@@ -182,7 +182,7 @@ TEST(MarchingSlices, MatchesBruteForceOnRandomBlobs) {
     }
 }
 
-TEST(MarchingSlices, ColumnEvaluationIsBitIdenticalToCornerEvaluation) {
+TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
     const Cloud c = blobs(3, 5, 40, 0.1f);
     SlicesExtractor ex(settings_for(0.1f, 8), c.size());
     SurfaceMesh m;
@@ -209,6 +209,9 @@ TEST(MarchingSlices, ColumnEvaluationIsBitIdenticalToCornerEvaluation) {
                 for (std::uint32_t k = 0; k <= n; ++k) {
                     const float want = cache_field(view, n, i, j, std::int32_t(k), px, py, pz[k], f);
                     ASSERT_EQ(std::memcmp(&want, &column[k], sizeof(float)), 0) << b << " " << i << " " << j;
+                    for (const float iso : {ex.iso(), 0.5f * ex.iso(), 2.0f * ex.iso()})
+                        ASSERT_EQ(cache_inside(view, n, i, j, std::int32_t(k), px, py, pz[k], f, iso),
+                                  want >= iso);
                     nonzero += want > 0.0f;
                 }
             }
