@@ -35,7 +35,8 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f);
     };
 
-    // F >= iso at a local corner, from a partial sum where that settles it (the face scan).
+    // F >= iso at a local corner, from a partial sum where that settles it (the walks and the face scan
+    // need only signs).
     auto inside = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
         const std::int32_t gi = i0 + static_cast<std::int32_t>(i), gj = j0 + static_cast<std::int32_t>(j),
                            gk = k0 + static_cast<std::int32_t>(k);
@@ -74,11 +75,11 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         std::int32_t& run_hi = s.walk_hi[col];
         if (lk >= run_lo && lk <= run_hi) return true;  // inside a run already walked
         const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
-        if (field(ui, uj, static_cast<std::uint32_t>(lk)) < iso) return false;
+        if (!inside(ui, uj, static_cast<std::uint32_t>(lk))) return false;
         std::int32_t k = lk - 1;
         for (; k >= 0; --k) {
             if (k >= run_lo && k <= run_hi) break;
-            if (field(ui, uj, static_cast<std::uint32_t>(k)) < iso) break;
+            if (!inside(ui, uj, static_cast<std::uint32_t>(k))) break;
         }
         if (k >= 0 && k >= run_lo && k <= run_hi) {  // joined the known run: same crossing below
             run_hi = std::max(run_hi, lk);
