@@ -4,6 +4,32 @@
 #include <cmath>
 
 namespace rivulet {
+namespace {
+
+// atan2(y, x) for y > 0, in (0, pi): the angle between two edges from |u x w| and u . w. std::atan2 cost
+// three quarters of the normals job; this is an octant reduction to [0, 1] and the odd polynomial of
+// Abramowitz & Stegun 4.4.49 (error 3e-7 rad in float, measured against double atan2), plain float
+// operations in a fixed order, so the result is deterministic like the rest of the sum.
+float edge_angle(float y, float x) {
+    const float ax = std::fabs(x);
+    const bool steep = y > ax;
+    const float t = std::min(ax, y) / std::max(ax, y);  // in [0, 1]; y > 0 keeps the divisor non-zero
+    const float t2 = t * t;
+    float poly = -0.0040540580f;
+    poly = poly * t2 + 0.0218612288f;
+    poly = poly * t2 - 0.0559098861f;
+    poly = poly * t2 + 0.0964200441f;
+    poly = poly * t2 - 0.1390853351f;
+    poly = poly * t2 + 0.1994653599f;
+    poly = poly * t2 - 0.3332985605f;
+    poly = poly * t2 + 0.9999993329f;
+    float a = t * poly;                 // atan(t) in [0, pi/4]
+    if (steep) a = 1.57079632679f - a;  // atan(y / |x|) in [0, pi/2]
+    if (x < 0.0f) a = 3.14159265359f - a;
+    return a;
+}
+
+}  // namespace
 
 void accumulate_angle_normals(std::span<const float> p, std::span<const std::uint32_t> tri,
                               std::span<float> acc) {
@@ -17,7 +43,8 @@ void accumulate_angle_normals(std::span<const float> p, std::span<const std::uin
                             e1[0] * e2[1] - e1[1] * e2[0]};
         const float len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
         if (!(len > 0.0f)) continue;
-        const float nrm[3] = {c[0] / len, c[1] / len, c[2] / len};
+        const float inv = 1.0f / len;
+        const float nrm[3] = {c[0] * inv, c[1] * inv, c[2] * inv};
         for (int a = 0; a < 3; ++a) {
             const float* o = q[a];
             const float* b = q[(a + 1) % 3];
@@ -25,7 +52,7 @@ void accumulate_angle_normals(std::span<const float> p, std::span<const std::uin
             const float u[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
             const float w[3] = {d[0] - o[0], d[1] - o[1], d[2] - o[2]};
             // |u x w| is twice the area at every corner: the angle is atan2(2 area, u . w).
-            const float angle = std::atan2(len, u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
+            const float angle = edge_angle(len, u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
             float* out = &acc[std::size_t(v[a]) * 3];
             out[0] += angle * nrm[0], out[1] += angle * nrm[1], out[2] += angle * nrm[2];
         }

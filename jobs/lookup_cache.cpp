@@ -41,12 +41,18 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
             const std::int32_t cx = SliceGrid::cell(x, g.ox, g.voxel) - i0,
                                cy = SliceGrid::cell(y, g.oy, g.voxel) - j0,
                                cz = SliceGrid::cell(z, g.oz, g.voxel) - k0;
-            const std::int32_t ilo = std::max(0, cx - g.reach), ihi = std::min(n, cx + g.reach + 1);
+            // Columns within R_c lie in [cell(x - R_c), cell(x + R_c) + 1] (a superset: the exact test
+            // below decides), narrower than the reach box that bounds z.
+            const std::int32_t rlo = SliceGrid::cell(x - g.rc, g.ox, g.voxel) - i0,
+                               rhi = SliceGrid::cell(x + g.rc, g.ox, g.voxel) - i0 + 1;
+            const std::int32_t ilo = std::max({0, cx - g.reach, rlo}),
+                               ihi = std::min({n, cx + g.reach + 1, rhi});
             const std::int32_t jlo = std::max(0, cy - g.reach), jhi = std::min(n, cy + g.reach + 1);
             const ColumnEntry entry{x, y, z, cz - g.reach, cz + g.reach + 1, cz};
             if (entry.max_z < 0 || entry.min_z > n) continue;
             for (std::int32_t j = jlo; j <= jhi; ++j) {
                 const float dy = y - g.cy(j0 + j);
+                if (!(dy * dy < f.rc2)) continue;  // then no dx passes either
                 for (std::int32_t i = ilo; i <= ihi; ++i) {
                     const float dx = x - g.cx(i0 + i);
                     // Same float expression as the corner distance minus its z term: a superset.

@@ -1,10 +1,16 @@
 #include "jobs/marching_slices.h"
 
 #include <algorithm>
+#include <array>
 
 #include "jobs/marching_tables.h"
 
 namespace rivulet {
+namespace {
+
+constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's limit on block_cubes
+
+}  // namespace
 
 BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
@@ -28,6 +34,18 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
                            gk = k0 + static_cast<std::int32_t>(k);
         return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f);
     };
+
+    // F >= iso at a local corner, from a partial sum where that settles it (the walks and the face scan
+    // need only signs).
+    auto inside = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+        const std::int32_t gi = i0 + static_cast<std::int32_t>(i), gj = j0 + static_cast<std::int32_t>(j),
+                           gk = k0 + static_cast<std::int32_t>(k);
+        return cache_inside(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f,
+                            iso);
+    };
+    // World z of each slice, for column evaluations.
+    std::array<float, kMaxBlockCubes + 1> column_z{};
+    for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
 
     // ---- per-slab todo lists ----
     std::fill(s.todo_count.begin(), s.todo_count.end(), 0u);
@@ -57,11 +75,11 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         std::int32_t& run_hi = s.walk_hi[col];
         if (lk >= run_lo && lk <= run_hi) return true;  // inside a run already walked
         const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
-        if (field(ui, uj, static_cast<std::uint32_t>(lk)) < iso) return false;
+        if (!inside(ui, uj, static_cast<std::uint32_t>(lk))) return false;
         std::int32_t k = lk - 1;
         for (; k >= 0; --k) {
             if (k >= run_lo && k <= run_hi) break;
-            if (field(ui, uj, static_cast<std::uint32_t>(k)) < iso) break;
+            if (!inside(ui, uj, static_cast<std::uint32_t>(k))) break;
         }
         if (k >= 0 && k >= run_lo && k <= run_hi) {  // joined the known run: same crossing below
             run_hi = std::max(run_hi, lk);
@@ -107,24 +125,39 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             }
 
     // ---- seeds 2: every block face the surface can cross ----
+    // s.faces[w * n1 + u] = 1 where F >= iso on face (a, side), else 0; u and w are the next two axes
+    // after a. The x and y faces are made of whole z columns, evaluated a column at a time; on the z faces
+    // only the sign matters, so each corner's sum stops as soon as it reaches iso.
+    std::array<float, kMaxBlockCubes + 1> column_f{};
+    auto fill_face = [&](std::uint32_t a, std::uint32_t side) {
+        if (a == 2) {
+            for (std::uint32_t j = 0; j <= n; ++j)
+                for (std::uint32_t i = 0; i <= n; ++i)
+                    s.faces[j * n1 + i] = inside(i, j, side * n) ? 1.0f : 0.0f;
+            return;
+        }
+        for (std::uint32_t t = 0; t <= n; ++t) {
+            const std::uint32_t i = a == 0 ? side * n : t, j = a == 0 ? t : side * n;
+            cache_column(cache, n, i, j, 0, static_cast<std::int32_t>(n),
+                         g.cx(i0 + static_cast<std::int32_t>(i)), g.cy(j0 + static_cast<std::int32_t>(j)),
+                         column_z.data(), f, column_f.data());
+            // a = 0: u = y (t), w = z; a = 1: u = z, w = x (t).
+            for (std::uint32_t k = 0; k <= n; ++k)
+                s.faces[a == 0 ? k * n1 + t : t * n1 + k] = column_f[k] >= iso ? 1.0f : 0.0f;
+        }
+    };
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};
     for (std::uint32_t a = 0; a < 3; ++a)
         for (std::uint32_t side = 0; side < 2; ++side) {
             if (side == 0 && bidx[a] == 0) continue;          // outer grid face: no surface there
             if (side == 1 && bidx[a] + 1 == nb[a]) continue;  // likewise
             const std::uint32_t u = (a + 1) % 3, w = (a + 2) % 3;
-            std::uint32_t c[3];
-            c[a] = side * n;
-            for (std::uint32_t cw = 0; cw <= n; ++cw)
-                for (std::uint32_t cu = 0; cu <= n; ++cu) {
-                    c[u] = cu, c[w] = cw;
-                    s.faces[cw * n1 + cu] = field(c[0], c[1], c[2]);
-                }
+            fill_face(a, side);
             for (std::uint32_t cw = 0; cw < n; ++cw)
                 for (std::uint32_t cu = 0; cu < n; ++cu) {
-                    const bool i00 = s.faces[cw * n1 + cu] >= iso, i10 = s.faces[cw * n1 + cu + 1] >= iso,
-                               i01 = s.faces[(cw + 1) * n1 + cu] >= iso,
-                               i11 = s.faces[(cw + 1) * n1 + cu + 1] >= iso;
+                    const bool i00 = s.faces[cw * n1 + cu] != 0.0f, i10 = s.faces[cw * n1 + cu + 1] != 0.0f,
+                               i01 = s.faces[(cw + 1) * n1 + cu] != 0.0f,
+                               i11 = s.faces[(cw + 1) * n1 + cu + 1] != 0.0f;
                     if (i00 == i10 && i00 == i01 && i00 == i11) continue;
                     std::int32_t cube[3];
                     cube[a] = side ? std::int32_t(n) - 1 : 0;
@@ -177,13 +210,21 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         float* upper = slice(k + 1);
         float v[8];
         unsigned mask = 0;
-        for (unsigned c = 0; c < 8; ++c) {
-            const std::uint32_t ci = i + (c & 1u), cj = j + ((c >> 1) & 1u), ck = k + ((c >> 2) & 1u);
-            float& slot = (ck == k ? lower : upper)[cj * n1 + ci];
-            if (slot < 0.0f) slot = field(ci, cj, ck);
-            v[c] = slot;
-            if (v[c] >= iso) mask |= 1u << c;
+        for (unsigned c = 0; c < 4; ++c) {  // corner c below, c + 4 above
+            const std::uint32_t ci = i + (c & 1u), cj = j + ((c >> 1) & 1u), at = cj * n1 + ci;
+            if (lower[at] < 0.0f && upper[at] < 0.0f) {  // both new: one pass over the column
+                float pair[2];
+                cache_column(cache, n, ci, cj, static_cast<std::int32_t>(k), static_cast<std::int32_t>(k + 1),
+                             g.cx(i0 + static_cast<std::int32_t>(ci)),
+                             g.cy(j0 + static_cast<std::int32_t>(cj)), column_z.data() + k, f, pair);
+                lower[at] = pair[0], upper[at] = pair[1];
+            }
+            if (lower[at] < 0.0f) lower[at] = field(ci, cj, k);
+            if (upper[at] < 0.0f) upper[at] = field(ci, cj, k + 1);
+            v[c] = lower[at], v[c + 4] = upper[at];
         }
+        for (unsigned c = 0; c < 8; ++c)
+            if (v[c] >= iso) mask |= 1u << c;
         const std::uint32_t ntri = mt.triangle_count[mask];
         if (st.triangles + ntri > max_triangles) {
             st.overflow = true;

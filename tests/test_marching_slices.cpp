@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
 #include "jobs/bin_sort.h"
 #include "jobs/block_bins.h"
+#include "jobs/lookup_cache.h"
 #include "jobs/marching_tables.h"
 #include "jobs/mesh_hash.h"
 #include "runtime/lib/frame_graph.h"
@@ -178,6 +180,43 @@ TEST(MarchingSlices, MatchesBruteForceOnRandomBlobs) {
         const Cloud c = blobs(seed, 5, 40, 0.1f);
         for (std::uint32_t block : {8u, 16u}) expect_matches_reference(c, settings_for(0.1f, block));
     }
+}
+
+TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
+    const Cloud c = blobs(3, 5, 40, 0.1f);
+    SlicesExtractor ex(settings_for(0.1f, 8), c.size());
+    SurfaceMesh m;
+    ex.extract_serial(c.pos(), m);
+    const SliceGrid g = ex.grid();
+    const SliceKernel f = SliceKernel::from_rc(g.rc);
+    const std::uint32_t n = g.n, cols = (n + 1) * (n + 1);
+    std::vector<std::uint32_t> order(c.size()), counts(lookup_sort_slots(g)), offsets(cols + 1);
+    std::vector<ColumnEntry> entries;
+    std::vector<float> pz(n + 1), column(n + 1);
+    std::size_t nonzero = 0;
+    for (std::uint32_t b = 0; b < g.blocks(); ++b) {
+        const std::uint32_t bi = b % g.bx, bj = (b / g.bx) % g.by, bk = b / (g.bx * g.by);
+        const LookupScratch ls{order, counts};
+        entries.resize(build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, {}));
+        build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, entries);
+        const LookupCacheView view{offsets, entries, g.reach + 1};
+        const std::int32_t i0 = std::int32_t(bi * n), j0 = std::int32_t(bj * n), k0 = std::int32_t(bk * n);
+        for (std::uint32_t k = 0; k <= n; ++k) pz[k] = g.cz(k0 + std::int32_t(k));
+        for (std::uint32_t j = 0; j <= n; ++j)
+            for (std::uint32_t i = 0; i <= n; ++i) {
+                const float px = g.cx(i0 + std::int32_t(i)), py = g.cy(j0 + std::int32_t(j));
+                cache_column(view, n, i, j, 0, std::int32_t(n), px, py, pz.data(), f, column.data());
+                for (std::uint32_t k = 0; k <= n; ++k) {
+                    const float want = cache_field(view, n, i, j, std::int32_t(k), px, py, pz[k], f);
+                    ASSERT_EQ(std::memcmp(&want, &column[k], sizeof(float)), 0) << b << " " << i << " " << j;
+                    for (const float iso : {ex.iso(), 0.5f * ex.iso(), 2.0f * ex.iso()})
+                        ASSERT_EQ(cache_inside(view, n, i, j, std::int32_t(k), px, py, pz[k], f, iso),
+                                  want >= iso);
+                    nonzero += want > 0.0f;
+                }
+            }
+    }
+    EXPECT_GT(nonzero, 1000u);
 }
 
 TEST(MarchingSlices, WatertightAcrossBlockBordersForBlockSizes8To32) {
