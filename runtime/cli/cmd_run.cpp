@@ -121,10 +121,11 @@ int run(const RunOptions& o) {
     for (const FrameRecord& r : recs)
         if (r.pool_exhausted > 0) ++short_frames, worst = std::max<std::size_t>(worst, r.pool_exhausted);
     if (short_frames > 0)
-        fmt::print(stderr,
-                   "rivulet: warning: the cylinder pool (--max-groups {}) ran out in {} of {} frames; up to {} "
-                   "particle entries were drawn as spheres instead\n",
-                   config.scan.max_groups, short_frames, recs.size(), worst);
+        fmt::print(
+            stderr,
+            "rivulet: warning: the cylinder pool (--max-groups {}) ran out in {} of {} frames; up to {} "
+            "particle entries were drawn as spheres instead\n",
+            config.scan.max_groups, short_frames, recs.size(), worst);
     if (!config.out_dir.empty()) fmt::print("pictures: {}/frame_*.png\n", config.out_dir);
     if (trace) {
         const nlohmann::json capture = chrome_trace(*trace, pipeline.graph());
