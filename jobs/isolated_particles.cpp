@@ -2,7 +2,8 @@
 
 namespace rivulet {
 
-std::uint32_t collect_isolated(ConstPositions p, std::span<const std::uint8_t> grouped, std::span<float> centers) {
+std::uint32_t collect_isolated(ConstPositions p, std::span<const std::uint8_t> grouped,
+                               std::span<float> centers) {
     std::uint32_t n = 0;
     for (std::size_t i = 0; i < grouped.size(); ++i) {
         if (grouped[i]) continue;

@@ -50,8 +50,8 @@ struct FrameRecord {
     std::uint32_t particles = 0, groups = 0, isolated = 0;  // groups: slices' non-empty blocks
     std::uint64_t triangles = 0;
     std::uint32_t pool_exhausted = 0;  // scan: entries left isolated because every cylinder was in use
-    std::uint64_t hash = 0;           // the surface's buffers (when config.hash_frames)
-    std::uint64_t particle_hash = 0;  // the particle arrays the surface was extracted from (idem)
+    std::uint64_t hash = 0;            // the surface's buffers (when config.hash_frames)
+    std::uint64_t particle_hash = 0;   // the particle arrays the surface was extracted from (idem)
     FrameInputs inputs;
     double extract_ms = 0;  // frame graph wall time (simulation + extraction)
     double render_ms = 0;   // main thread: upload + draw + read-back (0 when not rendering)

@@ -8,7 +8,8 @@
 //   group_lists.h)
 //   -> deform(group)*  -> normals(group)*                         per cylinder (jobs/deform_cylinder.h,
 //   cylinder_normals.h)
-//   -> isolated (beside deform)                                   sphere instances       (jobs/isolated_particles.h)
+//   -> isolated (beside deform)                                   sphere instances
+//   (jobs/isolated_particles.h)
 //   -> stage                                                      draw list, counters
 //   (* = independent items, run in parallel)
 //
