@@ -219,17 +219,27 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
     EXPECT_GT(nonzero, 1000u);
 }
 
-TEST(MarchingSlices, WatertightAcrossBlockBordersForBlockSizes8To32) {
-    // A cube of jittered particles 1.6 radii apart (dense enough to hold no empty cavity, see
-    // docs/marching_slices.md): closed, many blocks at n = 8.
+namespace {
+
+// 7 x 7 x 7 particles `spacing` apart, each moved by up to 0.03 on every axis (fixed seed).
+Cloud jittered_lattice(float spacing) {
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> jitter(-0.03f, 0.03f);
     Cloud c;
     for (int k = 0; k < 7; ++k)
         for (int j = 0; j < 7; ++j)
             for (int i = 0; i < 7; ++i)
-                c.add(0.16f * float(i) + jitter(rng), 0.16f * float(j) + jitter(rng),
-                      0.16f * float(k) + jitter(rng));
+                c.add(spacing * float(i) + jitter(rng), spacing * float(j) + jitter(rng),
+                      spacing * float(k) + jitter(rng));
+    return c;
+}
+
+}  // namespace
+
+TEST(MarchingSlices, WatertightAcrossBlockBordersForBlockSizes8To32) {
+    // A cube of jittered particles 1.6 radii apart (dense enough to hold no empty cavity, see
+    // docs/marching_slices.md): closed, many blocks at n = 8.
+    const Cloud c = jittered_lattice(0.16f);
     std::uint64_t first_triangles = 0;
     for (std::uint32_t block : {8u, 16u, 32u}) {
         const Extracted e = extract(c, settings_for(0.1f, block));
@@ -247,14 +257,7 @@ TEST(MarchingSlices, WatertightAcrossBlockBordersForBlockSizes8To32) {
 TEST(MarchingSlices, ExhaustiveSeedsFindEmptyCavitiesToo) {
     // A jittered lattice 2 radii apart holds small bubbles of F < iso that enclose no particle. The
     // default seeds need not find those lying inside one block; exhaustive seeds match the oracle.
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<float> jitter(-0.03f, 0.03f);
-    Cloud c;
-    for (int k = 0; k < 7; ++k)
-        for (int j = 0; j < 7; ++j)
-            for (int i = 0; i < 7; ++i)
-                c.add(0.2f * float(i) + jitter(rng), 0.2f * float(j) + jitter(rng),
-                      0.2f * float(k) + jitter(rng));
+    const Cloud c = jittered_lattice(0.2f);
     SlicesSettings s = settings_for(0.1f, 16);
     const Extracted fast = extract(c, s);
     s.exhaustive_seeds = true;
