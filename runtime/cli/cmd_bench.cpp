@@ -15,6 +15,7 @@
 
 #include "cli/commands.h"
 #include "runtime/lib/bench_report.h"
+#include "systems/io/output_file.h"
 
 extern char** environ;
 
@@ -155,11 +156,7 @@ int bench(const BenchOptions& o) {
     meta["hardware_threads"] = std::thread::hardware_concurrency();
     write_json_file(o.out + "/bench.json", bench_json(cases, meta));
     const std::string md = bench_markdown(cases, meta);
-    {
-        std::ofstream f(o.out + "/bench.md");
-        f << md;
-        if (!f) throw std::runtime_error(fmt::format("cannot write {}/bench.md", o.out));
-    }
+    io::write_text_file(o.out + "/bench.md", md);
     fmt::print("{}", md);
 
     write_gnuplot_inputs(cases, o.out);

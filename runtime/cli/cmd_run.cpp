@@ -1,7 +1,6 @@
 // rivulet run: simulate a scene, extract its surface and render it, frame after frame, pipelined.
 #include <fmt/format.h>
 #include <algorithm>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <span>
 
@@ -13,22 +12,19 @@
 #include "runtime/lib/thread_control.h"
 #include "runtime/lib/trace_recorder.h"
 #include "runtime/lib/trace_summary.h"
-#include "systems/scenes/scene_json.h"
 
 namespace rivulet::cli {
 namespace {
 
 struct RunOptions {
-    std::string scene = "fountain";
+    SceneOptions scene;
     std::string method = "scan";
-    int frames = 120;
     int threads = 0;
     std::string out = "out";
     std::string size = "1280x720";
     std::string json;
     std::string trace;
     std::string record;
-    int warmup = -1;
     int timing_warmup = 0;
     bool no_pipeline = false;
     bool no_render = false;
@@ -59,13 +55,10 @@ StageSummary summarize(const FramePipeline& p, int skip) {
 }
 
 int run(const RunOptions& o) {
-    if (o.frames < 1 || o.frames > 1000000)
-        throw std::invalid_argument(fmt::format("--frames must be in [1, 1000000], got {}", o.frames));
-    if (o.timing_warmup >= o.frames)
-        throw std::invalid_argument(
-            fmt::format("--timing-warmup ({}) must be less than --frames ({})", o.timing_warmup, o.frames));
-    SceneDesc scene = resolve_scene(o.scene);
-    if (o.warmup >= 0) scene.warmup_frames = o.warmup;
+    if (o.timing_warmup >= o.scene.frames)
+        throw std::invalid_argument(fmt::format("--timing-warmup ({}) must be less than --frames ({})",
+                                                o.timing_warmup, o.scene.frames));
+    SceneDesc scene = o.scene.resolve();
 
     ThreadControl threads(o.threads);
     PipelineConfig config;
@@ -83,7 +76,8 @@ int run(const RunOptions& o) {
     std::vector<FrameInputs> inputs_log;
     if (!o.record.empty()) {
         config.hash_frames = true;
-        inputs_log.resize(static_cast<std::size_t>(scene.warmup_frames) + static_cast<std::size_t>(o.frames));
+        inputs_log.resize(static_cast<std::size_t>(scene.warmup_frames) +
+                          static_cast<std::size_t>(o.scene.frames));
         config.inputs = [&inputs_log, &scene](std::uint64_t f) {
             const FrameInputs in = scripted_inputs(scene, f);
             if (f < inputs_log.size()) inputs_log[f] = in;
@@ -95,7 +89,7 @@ int run(const RunOptions& o) {
     std::unique_ptr<TraceRecorder> trace;
     if (!o.trace.empty()) {
         trace = std::make_unique<TraceRecorder>(static_cast<std::size_t>(threads.threads()),
-                                                static_cast<std::size_t>(o.frames + 1) * 1024);
+                                                static_cast<std::size_t>(o.scene.frames + 1) * 1024);
         config.trace = trace.get();
     }
     FramePipeline pipeline(scene, config);
@@ -103,9 +97,9 @@ int run(const RunOptions& o) {
         fmt::print(stderr, "rivulet: scene '{}', {} threads, {} ({})\n", scene.name, threads.threads(),
                    r->gl_version(), r->gl_renderer());
     pipeline.warmup();
-    pipeline.reserve_records(static_cast<std::size_t>(o.frames));
-    ProgressBar bar("frames", o.frames);
-    pipeline.run(o.frames, [&bar](int i) { bar.update(i + 1); });
+    pipeline.reserve_records(static_cast<std::size_t>(o.scene.frames));
+    ProgressBar bar("frames", o.scene.frames);
+    pipeline.run(o.scene.frames, [&bar](int i) { bar.update(i + 1); });
 
     const StageSummary summary = summarize(pipeline, o.timing_warmup);
     const auto& recs = pipeline.records();
@@ -160,11 +154,8 @@ void add_run_command(CLI::App& app, int& status) {
     auto opts = std::make_shared<RunOptions>();
     CLI::App* cmd =
         app.add_subcommand("run", "Simulate a scene, extract its surface and render it, frame after frame");
-    cmd->add_option("--scene", opts->scene,
-                    "Built-in scene (fountain, faucet, hose) or a scene file FILE.json")
-        ->capture_default_str();
     add_method_option(*cmd, opts->method);
-    cmd->add_option("--frames", opts->frames, "Frames to render")->capture_default_str();
+    opts->scene.add_to(*cmd, "Frames to render");
     add_threads_option(*cmd, opts->threads, "Threads for TBB and llvmpipe together (0 = all)");
     cmd->add_option("--out", opts->out, "Directory for PNG frames (empty: no pictures)")
         ->capture_default_str();
@@ -174,8 +165,6 @@ void add_run_command(CLI::App& app, int& status) {
                     "Write every job's zones as Chrome Trace Event JSON (Perfetto, chrome://tracing)");
     cmd->add_option("--record", opts->record,
                     "Write a recording (scene, settings, per-frame inputs and hashes) for rivulet replay");
-    cmd->add_option("--warmup", opts->warmup, "Simulated frames before frame 0 (default: the scene's)")
-        ->check(CLI::Range(0, 1000000));
     cmd->add_option("--timing-warmup", opts->timing_warmup,
                     "Frames rendered first and left out of the medians (benchmarks)")
         ->check(CLI::Range(0, 1000000));

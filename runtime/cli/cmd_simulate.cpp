@@ -10,24 +10,18 @@
 #include "runtime/lib/stage_summary.h"
 #include "runtime/lib/thread_control.h"
 #include "systems/io/particle_io.h"
-#include "systems/scenes/scene_json.h"
 
 namespace rivulet::cli {
 namespace {
 
 struct SimulateOptions {
-    std::string scene = "fountain";
-    int frames = 120;
+    SceneOptions scene;
     int threads = 0;
-    int warmup = -1;
     std::string out;
 };
 
 int simulate(const SimulateOptions& o) {
-    if (o.frames < 1 || o.frames > 1000000)
-        throw std::invalid_argument(fmt::format("--frames must be in [1, 1000000], got {}", o.frames));
-    SceneDesc scene = resolve_scene(o.scene);
-    if (o.warmup >= 0) scene.warmup_frames = o.warmup;
+    SceneDesc scene = o.scene.resolve();
     ThreadControl threads(o.threads);
     std::filesystem::create_directories(o.out);
 
@@ -36,8 +30,8 @@ int simulate(const SimulateOptions& o) {
     sim.add_jobs(graph);
     sim.step_serial(scene.warmup_frames);
     std::vector<double> step_ms, write_ms;
-    ProgressBar bar("frames", o.frames);
-    for (int i = 0; i < o.frames; ++i) {
+    ProgressBar bar("frames", o.scene.frames);
+    for (int i = 0; i < o.scene.frames; ++i) {
         graph.run();
         step_ms.push_back(graph.last_run_ms());
         const auto t0 = std::chrono::steady_clock::now();
@@ -47,11 +41,11 @@ int simulate(const SimulateOptions& o) {
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         bar.update(i + 1);
     }
-    fmt::print("scene {} | {} frames | {} threads | {} particles (last frame)\n", scene.name, o.frames,
+    fmt::print("scene {} | {} frames | {} threads | {} particles (last frame)\n", scene.name, o.scene.frames,
                threads.threads(), sim.particles().size());
     fmt::print("simulation {:.3f} ms/frame, PLY write {:.3f} ms/frame (medians)\n", median(step_ms),
                median(write_ms));
-    fmt::print("particles: {}/frame_{{}}.ply (frames 00000 to {:05d})\n", o.out, o.frames - 1);
+    fmt::print("particles: {}/frame_{{}}.ply (frames 00000 to {:05d})\n", o.out, o.scene.frames - 1);
     return 0;
 }
 
@@ -61,14 +55,9 @@ void add_simulate_command(CLI::App& app, int& status) {
     auto opts = std::make_shared<SimulateOptions>();
     CLI::App* cmd =
         app.add_subcommand("simulate", "Simulate a scene and write its particles as a PLY sequence");
-    cmd->add_option("--scene", opts->scene,
-                    "Built-in scene (fountain, faucet, hose) or a scene file FILE.json")
-        ->capture_default_str();
-    cmd->add_option("--frames", opts->frames, "Frames to write")->capture_default_str();
+    opts->scene.add_to(*cmd, "Frames to write");
     add_threads_option(*cmd, opts->threads, "Threads for TBB (0 = all)");
     cmd->add_option("--out", opts->out, "Directory for frame_00000.ply, frame_00001.ply, ...")->required();
-    cmd->add_option("--warmup", opts->warmup, "Simulated frames before frame 0 (default: the scene's)")
-        ->check(CLI::Range(0, 1000000));
     cmd->callback([opts, &status] { status = simulate(*opts); });
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "systems/scan/scan_settings.h"
+#include "systems/scenes/scene.h"
 
 namespace rivulet::cli {
 
@@ -29,6 +30,17 @@ struct ScanOptions {
 // --threads (0 = all hardware threads, at most 1024).
 void add_method_option(CLI::App& cmd, std::string& method);
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help);
+
+// The scene options `run` and `simulate` share: --scene (built-in name or FILE.json), --frames in
+// [1, 1000000], --warmup (simulated frames before frame 0; default the scene's).
+struct SceneOptions {
+    std::string name = "fountain";
+    int frames = 120;
+    int warmup = -1;
+    void add_to(CLI::App& cmd, const std::string& frames_help);
+    // The scene with --warmup applied; throws on an unknown name or a bad scene file.
+    SceneDesc resolve() const;
+};
 
 // Options of marching slices shared by `run` and `mesh` (--voxel, --block, --exhaustive-seeds).
 struct SlicesOptions {

@@ -1,11 +1,12 @@
 #include <fmt/format.h>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "cli/commands.h"
+#include "systems/io/output_file.h"
+#include "systems/scenes/scene_json.h"
 
 namespace rivulet::cli {
 namespace {
@@ -78,14 +79,29 @@ void SlicesOptions::add_to(CLI::App& cmd) {
                  "particle) are found too; slower");
 }
 
+void SceneOptions::add_to(CLI::App& cmd, const std::string& frames_help) {
+    std::string builtin;
+    for (std::string_view n : builtin_scene_names())
+        builtin += (builtin.empty() ? "" : ", ") + std::string(n);
+    cmd.add_option("--scene", name, "Built-in scene (" + builtin + ") or a scene file FILE.json")
+        ->capture_default_str();
+    cmd.add_option("--frames", frames, frames_help)->capture_default_str()->check(CLI::Range(1, 1000000));
+    cmd.add_option("--warmup", warmup, "Simulated frames before frame 0 (default: the scene's)")
+        ->check(CLI::Range(0, 1000000));
+}
+
+SceneDesc SceneOptions::resolve() const {
+    SceneDesc scene = resolve_scene(name);
+    if (warmup >= 0) scene.warmup_frames = warmup;
+    return scene;
+}
+
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help) {
     cmd.add_option("--threads", threads, help)->capture_default_str()->check(CLI::Range(0, 1024));
 }
 
 void write_json_file(const std::string& path, const nlohmann::json& doc) {
-    std::ofstream f(path);
-    f << doc.dump(2) << "\n";
-    if (!f) throw std::runtime_error(fmt::format("cannot write {}", path));
+    io::write_text_file(path, doc.dump(2) + "\n");
 }
 
 void parse_size(const std::string& text, int& width, int& height) {

@@ -2,9 +2,10 @@
 
 #include <fmt/format.h>
 #include <algorithm>
-#include <fstream>
 #include <map>
 #include <stdexcept>
+
+#include "systems/io/output_file.h"
 
 namespace rivulet {
 namespace {
@@ -23,13 +24,6 @@ std::vector<std::string> stage_names(const std::vector<BenchCase>& cases) {
             if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     }
     return names;
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write '" + path + "'");
 }
 
 double number(const nlohmann::json& j, const char* name) {
@@ -111,7 +105,7 @@ std::string write_gnuplot_inputs(const std::vector<BenchCase>& cases, const std:
                                        d.frames_per_second / d.efficiency);
         scaling += "\n\n";
     }
-    write_text(dir + "/scaling.dat", scaling);
+    io::write_text_file(dir + "/scaling.dat", scaling);
 
     const std::vector<std::string> stages = stage_names(cases);
     std::string table = "case";
@@ -123,7 +117,7 @@ std::string write_gnuplot_inputs(const std::vector<BenchCase>& cases, const std:
         for (const std::string& s : stages) table += fmt::format(" {:.6f}", number(st, s.c_str()));
         table += fmt::format(" {:.6f}\n", number(c.run, "render_ms"));
     }
-    write_text(dir + "/stages.dat", table);
+    io::write_text_file(dir + "/stages.dat", table);
 
     std::string gp = "set terminal pngcairo size 960,600 noenhanced\n";
     // Twenty distinct colours: stacked bars have a segment per job and must not repeat one.
@@ -149,7 +143,7 @@ std::string write_gnuplot_inputs(const std::vector<BenchCase>& cases, const std:
     gp += fmt::format("plot for [i=2:{}] 'stages.dat' using i:xtic(1) title columnheader(i)\n",
                       stages.size() + 2);
     const std::string path = dir + "/plots.gp";
-    write_text(path, gp);
+    io::write_text_file(path, gp);
     return path;
 }
 

@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "jobs/mesh_hash.h"
+#include "systems/io/file_format_error.h"
+#include "systems/io/output_file.h"
 #include "systems/scan/scan_settings_json.h"
 #include "systems/scenes/scene_json.h"
 #include "systems/slices/slices_settings_json.h"
@@ -58,10 +60,11 @@ void write_recording(const std::string& path, const Recording& r) {
     for (const RecordedFrame& f : r.frames) frames.push_back({hash_hex(f.particles), hash_hex(f.surface)});
     doc["frames"] = std::move(frames);
     doc["checksum"] = checksum_of(doc);
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << doc.dump(1) << '\n';
-    out.close();
-    if (!out) throw RecordingError("cannot write recording '" + path + "'");
+    try {
+        io::write_text_file(path, doc.dump(1) + "\n");
+    } catch (const FileFormatError& e) {
+        throw RecordingError(std::string("cannot write recording: ") + e.what());
+    }
 }
 
 Recording read_recording(const std::string& path) {

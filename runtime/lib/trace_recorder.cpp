@@ -1,10 +1,10 @@
 #include "runtime/lib/trace_recorder.h"
 
 #include "runtime/lib/frame_graph.h"
+#include "systems/io/output_file.h"
 
 #include <tbb/task_arena.h>
 #include <algorithm>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -120,9 +120,7 @@ nlohmann::json chrome_trace(const TraceRecorder& recorder, const FrameGraph& gra
 }
 
 void write_chrome_trace(const std::string& path, const nlohmann::json& trace) {
-    std::ofstream f(path);
-    f << trace.dump();
-    if (!f) throw std::runtime_error("cannot write trace " + path);
+    io::write_text_file(path, trace.dump());
 }
 
 }  // namespace rivulet

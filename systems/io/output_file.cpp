@@ -54,6 +54,12 @@ void OutputFile::commit() {
     }
 }
 
+void write_text_file(const std::string& path, std::string_view text) {
+    OutputFile out(path);
+    out.write(text);
+    out.commit();
+}
+
 void OutputFile::fail(std::string_view what) const {
     throw FileFormatError(path_ + ": " + std::string(what));
 }

@@ -31,4 +31,8 @@ class OutputFile {
     bool regular_ = false;  // only regular files are removed on failure, never a device or pipe
 };
 
+// The whole of `text` as the file's content (reports, JSON, scripts): an OutputFile written and
+// committed, so a failure throws FileFormatError naming the path and leaves no partial file.
+void write_text_file(const std::string& path, std::string_view text);
+
 }  // namespace rivulet::io
