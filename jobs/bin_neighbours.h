@@ -4,11 +4,13 @@
 // own bin, and the first within eps in the bin above. The seed's rules then only look these up
 // (grouping.h), so the serial part of grouping is a single cheap pass.
 //
-// Small bins (up to `linear_scan_max` entries) are scanned linearly, eight candidates at a time. Larger
-// ones are bucketed by a 2D hash of cells 2 eps wide, so an eps-disc touches at most 2x2 cells; each
-// bucket keeps its entries' positions contiguous and in bin order, so a query scans at most four short
-// runs, eight candidates at a time, and stops at a bucket's first hit; a large bin's first 16 entries are
-// tried in order before its buckets, which settles most queries in coherent streams. Same answer always.
+// A query first scans the bin's leading `linear_scan_max` entries in order, four at a time; in a
+// coherent stream that settles almost every query, and a bin no larger than that is only ever scanned.
+// Past it, the bin gets a 2D hash of cells 2 eps wide (an eps-disc touches at most 2x2 cells) whose
+// buckets keep their entries' positions contiguous and in bin order, so a query scans at most four short
+// runs and stops at a bucket's first hit. The hash is built lazily, by the one job that needs it: the
+// job of bin b builds bin b's table in `own` and its own copy of bin b-1's table in `above`, so jobs
+// share nothing they write and there is no separate hashing pass. The same answer every way.
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -18,25 +20,25 @@
 namespace rivulet {
 
 inline constexpr std::uint32_t kNoNeighbour = std::numeric_limits<std::uint32_t>::max();
-inline constexpr std::uint32_t kDefaultLinearScanMax = 32;
+inline constexpr std::uint32_t kDefaultLinearScanMax = 64;
 
-// Per-bin hash tables of the whole bin table, laid out by bin offsets; sized with the functions below.
+// Per-bin hash tables of the whole bin table, laid out by bin offsets; sized with the function below.
 struct BinHashes {
-    std::span<std::uint32_t> start;  // bin_hash_start_capacity(entries, bins)
-    std::span<std::uint32_t> items;  // one per entry: position in the bin, bucket by bucket
-    std::span<float> x, y, z;        // one per entry: the same entries' positions, same order
+    std::span<std::uint32_t> start;   // bin_hash_start_capacity(entries, bins)
+    std::span<std::uint32_t> items;   // one per entry: position in the bin, bucket by bucket
+    std::span<float> x, y, z;         // one per entry: the same entries' positions, same order
+    std::span<std::uint32_t> bucket;  // one per entry: scratch, each entry's bucket in bin order
 };
 
 std::size_t bin_hash_start_capacity(std::size_t entries, std::size_t bins);
 
-// Job 1, per bin: builds bin b's hash (nothing for small bins).
-void build_bin_hash(BinTableView bins, std::uint32_t b, float eps, const BinHashes& hashes,
-                    std::uint32_t linear_scan_max = kDefaultLinearScanMax);
-
-// Job 2, per bin (after job 1 for bins b and b-1): first_current[e] for every entry e of bin b, and
-// first_above[e] where first_current[e] is kNoNeighbour, as global entry indices (else kNoNeighbour).
-void find_bin_neighbours(BinTableView bins, std::uint32_t b, float eps, const BinHashes& hashes,
-                         std::span<std::uint32_t> first_current, std::span<std::uint32_t> first_above,
+// One job per bin: first_current[e] for every entry e of bin b, and first_above[e] where first_current[e]
+// is kNoNeighbour, as global entry indices (else kNoNeighbour). `own` and `above` are two separate
+// tables of the same size (see above); only bin b's region of `own` and bin b-1's region of `above` are
+// written.
+void find_bin_neighbours(BinTableView bins, std::uint32_t b, float eps, const BinHashes& own,
+                         const BinHashes& above, std::span<std::uint32_t> first_current,
+                         std::span<std::uint32_t> first_above,
                          std::uint32_t linear_scan_max = kDefaultLinearScanMax);
 
 }  // namespace rivulet

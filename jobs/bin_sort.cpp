@@ -6,8 +6,10 @@ namespace rivulet {
 
 bool BinGrid::span_of(float y, std::uint32_t& first, std::uint32_t& last) const {
     // Plane b is hit when |y - plane_y(b)| <= radius, i.e. b in [(top - y - r) / s, (top - y + r) / s].
-    const float lo = std::ceil((top - y - radius) / spacing);
-    const float hi = std::floor((top - y + radius) / spacing);
+    // One reciprocal instead of two divisions: the loops that call this hoist it.
+    const float inv_spacing = 1.0f / spacing;
+    const float lo = std::ceil((top - y - radius) * inv_spacing);
+    const float hi = std::floor((top - y + radius) * inv_spacing);
     const float max_bin = static_cast<float>(bins) - 1.0f;
     if (!(hi >= 0.0f) || !(lo <= max_bin) || hi < lo) return false;
     first = static_cast<std::uint32_t>(lo < 0.0f ? 0.0f : lo);

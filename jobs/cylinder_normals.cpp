@@ -1,56 +1,154 @@
 #include "jobs/cylinder_normals.h"
 
+#include <array>
 #include <cmath>
+#include <utility>
+
+#include "jobs/deform_cylinder.h"
 
 namespace rivulet {
 namespace {
 
-void accumulate_face(float* v, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    float* pa = v + std::size_t(a) * 6;
-    float* pb = v + std::size_t(b) * 6;
-    float* pc = v + std::size_t(c) * 6;
-    const float e1x = pb[0] - pa[0], e1y = pb[1] - pa[1], e1z = pb[2] - pa[2];
-    const float e2x = pc[0] - pa[0], e2y = pc[1] - pa[1], e2z = pc[2] - pa[2];
-    const float nx = e1y * e2z - e1z * e2y, ny = e1z * e2x - e1x * e2z, nz = e1x * e2y - e1y * e2x;
-    for (float* q : {pa, pb, pc}) q[3] += nx, q[4] += ny, q[5] += nz;
+// One ring's side vertices in SoA, with slot u repeating slot 0 so "k + 1" needs no wrap in the loops.
+struct Ring {
+    std::array<float, kMaxRingVertices + 1> x, y, z;
+};
+
+struct Normals {
+    std::array<float, kMaxRingVertices + 1> x, y, z;
+};
+
+void load_ring(const float* v, std::uint32_t first, std::uint32_t u, Ring& r) {
+    for (std::uint32_t k = 0; k < u; ++k) {
+        const float* p = v + std::size_t(first + k) * 6;
+        r.x[k] = p[0], r.y[k] = p[1], r.z[k] = p[2];
+    }
+    r.x[u] = r.x[0], r.y[u] = r.y[0], r.z[u] = r.z[0];
+}
+
+void cross_into(float ax, float ay, float az, float bx, float by, float bz, float& nx, float& ny, float& nz) {
+    nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+}
+
+// Band between rings a (above) and b (below), quad k = (a_k, a_k1, b_k1, b_k), split as the index buffer
+// does (write_cylinder_indices): t1 = (a_k, b_k1, b_k), t2 = (a_k, a_k1, b_k1). Adds each face normal
+// (edge cross product, so area-weighted) to its three corners' sums.
+// Always inlined: each call site then knows its four arrays are distinct, and the loops vectorize.
+[[gnu::always_inline]] inline void add_band(std::uint32_t u, const Ring& a, const Ring& b, Normals& na,
+                                            Normals& nb) {
+    std::array<float, kMaxRingVertices + 1> sx, sy, sz, tx, ty, tz;  // t1 and t1 + t2 per quad
+    for (std::uint32_t k = 0; k < u; ++k) {
+        const float d1x = b.x[k + 1] - a.x[k], d1y = b.y[k + 1] - a.y[k], d1z = b.z[k + 1] - a.z[k];
+        const float d2x = b.x[k] - a.x[k], d2y = b.y[k] - a.y[k], d2z = b.z[k] - a.z[k];
+        const float d3x = a.x[k + 1] - a.x[k], d3y = a.y[k + 1] - a.y[k], d3z = a.z[k + 1] - a.z[k];
+        float n1x, n1y, n1z, n2x, n2y, n2z;
+        cross_into(d1x, d1y, d1z, d2x, d2y, d2z, n1x, n1y, n1z);  // t1: (b_k1 - a_k) x (b_k - a_k)
+        cross_into(d3x, d3y, d3z, d1x, d1y, d1z, n2x, n2y, n2z);  // t2: (a_k1 - a_k) x (b_k1 - a_k)
+        tx[k + 1] = n1x, ty[k + 1] = n1y, tz[k + 1] = n1z;
+        sx[k + 1] = n1x + n2x, sy[k + 1] = n1y + n2y, sz[k + 1] = n1z + n2z;
+        // a_k and b_k1 touch both triangles of quad k; a_k1 only t2; b_k only t1.
+        na.x[k] += sx[k + 1], na.y[k] += sy[k + 1], na.z[k] += sz[k + 1];
+        nb.x[k] += n1x, nb.y[k] += n1y, nb.z[k] += n1z;
+    }
+    // Quad k - 1 reaches a_k through t2 and b_k through both triangles (cyclic: quad -1 is quad u - 1).
+    sx[0] = sx[u], sy[0] = sy[u], sz[0] = sz[u];
+    tx[0] = tx[u], ty[0] = ty[u], tz[0] = tz[u];
+    for (std::uint32_t k = 0; k < u; ++k) {
+        na.x[k] += sx[k] - tx[k], na.y[k] += sy[k] - ty[k], na.z[k] += sz[k] - tz[k];
+        nb.x[k] += sx[k], nb.y[k] += sy[k], nb.z[k] += sz[k];
+    }
+}
+
+// Cap fan from `pole` over ring r: triangles (pole, r_k1, r_k) on top, (pole, r_k, r_k1) at the bottom.
+// Adds to the ring's sums and returns the pole's sum in (px, py, pz).
+void add_cap(std::uint32_t u, const float* pole, const Ring& r, bool top, Normals& nr, float& px, float& py,
+             float& pz) {
+    px = py = pz = 0.0f;
+    for (std::uint32_t k = 0; k < u; ++k) {
+        const float ax = r.x[k] - pole[0], ay = r.y[k] - pole[1], az = r.z[k] - pole[2];
+        const float bx = r.x[k + 1] - pole[0], by = r.y[k + 1] - pole[1], bz = r.z[k + 1] - pole[2];
+        float nx, ny, nz;
+        if (top)
+            cross_into(bx, by, bz, ax, ay, az, nx, ny, nz);
+        else
+            cross_into(ax, ay, az, bx, by, bz, nx, ny, nz);
+        px += nx, py += ny, pz += nz;
+        nr.x[k] += nx, nr.y[k] += ny, nr.z[k] += nz;
+        const std::uint32_t k1 = k + 1 == u ? 0 : k + 1;
+        nr.x[k1] += nx, nr.y[k1] += ny, nr.z[k1] += nz;
+    }
+}
+
+void store_normal(float* vertex, float nx, float ny, float nz) {
+    const float len = std::sqrt(nx * nx + ny * ny + nz * nz);
+    if (len > 1e-20f) {
+        const float inv = 1.0f / len;
+        vertex[3] = nx * inv, vertex[4] = ny * inv, vertex[5] = nz * inv;
+    } else {
+        // Collapsed neighbourhood (zero-area faces, or an inner ring's unused pole): point up so the
+        // normal stays unit length; such a vertex covers no visible area.
+        vertex[3] = 0.0f, vertex[4] = 1.0f, vertex[5] = 0.0f;
+    }
+}
+
+void store_ring(float* v, const CylinderLayout& layout, std::uint32_t ring, const Normals& n) {
+    for (std::uint32_t k = 0; k < layout.u; ++k)
+        store_normal(v + std::size_t(layout.side_vertex(ring, k)) * 6, n.x[k], n.y[k], n.z[k]);
+}
+
+void clear(Normals& n, std::uint32_t u) {
+    for (std::uint32_t k = 0; k < u; ++k) n.x[k] = n.y[k] = n.z[k] = 0.0f;
 }
 
 }  // namespace
 
 void cylinder_normals(const CylinderLayout& layout, std::uint32_t vmin, std::uint32_t vmax,
-                      std::span<float> vertices) {
+                      std::uint32_t first, std::uint32_t last, std::span<float> vertices) {
     float* v = vertices.data();
     const std::uint32_t u = layout.u;
-    const std::uint32_t first = layout.ring_first_vertex(vmin), last = layout.ring_first_vertex(vmax + 1);
-    for (std::uint32_t i = first; i < last; ++i) v[6 * i + 3] = v[6 * i + 4] = v[6 * i + 5] = 0.0f;
-
-    // Same triangles, same winding as write_cylinder_indices, walked ring by ring.
-    for (std::uint32_t b = vmin; b < vmax; ++b) {
-        const std::uint32_t ring = layout.ring_first_vertex(b), below = layout.ring_first_vertex(b + 1);
-        for (std::uint32_t k = 0; k < u; ++k) {
-            const std::uint32_t k1 = k + 1 == u ? 0 : k + 1;
-            accumulate_face(v, ring + k, below + k1, below + k);
-            accumulate_face(v, ring + k, ring + k1, below + k1);
-        }
+    // Rolling window of two rings: ring b's sums start with band b-1 (or the top cap) and are complete
+    // once band b (or the bottom cap) is added, in that order for every range.
+    Ring rings[2];
+    Normals sums[2], unused;
+    Ring* above = &rings[0];
+    Ring* below = &rings[1];
+    Normals* n_above = &sums[0];
+    Normals* n_below = &sums[1];
+    float px, py, pz;
+    if (first == vmin) {
+        load_ring(v, layout.ring_first_vertex(first), u, *above);
+        clear(*n_above, u);
+        add_cap(u, v + std::size_t(layout.top_pole(vmin)) * 6, *above, true, *n_above, px, py, pz);
+        store_normal(v + std::size_t(layout.top_pole(vmin)) * 6, px, py, pz);
+    } else {
+        // Band first-1 as seen from ring `first`; the ring above belongs to another range.
+        load_ring(v, layout.ring_first_vertex(first - 1), u, *below);
+        load_ring(v, layout.ring_first_vertex(first), u, *above);
+        clear(*n_above, u);
+        clear(unused, u);
+        add_band(u, *below, *above, unused, *n_above);
     }
-    const std::uint32_t top = layout.ring_first_vertex(vmin), bottom = layout.ring_first_vertex(vmax);
-    for (std::uint32_t k = 0; k < u; ++k) {
-        const std::uint32_t k1 = k + 1 == u ? 0 : k + 1;
-        accumulate_face(v, layout.top_pole(vmin), top + k1, top + k);
-        accumulate_face(v, layout.bottom_pole(vmax), bottom + k, bottom + k1);
+    for (std::uint32_t b = first; b < last; ++b) {
+        load_ring(v, layout.ring_first_vertex(b + 1), u, *below);
+        clear(*n_below, u);
+        add_band(u, *above, *below, *n_above, *n_below);
+        store_ring(v, layout, b, *n_above);
+        std::swap(above, below);
+        std::swap(n_above, n_below);
     }
-
-    for (std::uint32_t i = first; i < last; ++i) {
-        float* n = v + std::size_t(i) * 6 + 3;
-        const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (len > 1e-20f) {
-            const float inv = 1.0f / len;
-            n[0] *= inv, n[1] *= inv, n[2] *= inv;
-        } else {
-            // Collapsed neighbourhood (zero-area faces, or an inner ring's unused pole): point up so the
-            // normal stays unit length; such a vertex covers no visible area.
-            n[0] = 0.0f, n[1] = 1.0f, n[2] = 0.0f;
-        }
+    if (last == vmax) {
+        add_cap(u, v + std::size_t(layout.bottom_pole(vmax)) * 6, *above, false, *n_above, px, py, pz);
+        store_normal(v + std::size_t(layout.bottom_pole(vmax)) * 6, px, py, pz);
+    } else {
+        load_ring(v, layout.ring_first_vertex(last + 1), u, *below);
+        clear(unused, u);
+        add_band(u, *above, *below, *n_above, unused);
+    }
+    store_ring(v, layout, last, *n_above);
+    // Poles of inner rings are not drawn; give them a defined unit normal so the buffer is deterministic.
+    for (std::uint32_t b = first; b <= last; ++b) {
+        if (b != vmin) store_normal(v + std::size_t(layout.top_pole(b)) * 6, 0.0f, 0.0f, 0.0f);
+        if (b != vmax) store_normal(v + std::size_t(layout.bottom_pole(b)) * 6, 0.0f, 0.0f, 0.0f);
     }
 }
 

@@ -9,9 +9,11 @@
 
 namespace rivulet {
 
-// `vertices`: the cylinder's block, 6 floats per vertex; positions of rings [vmin, vmax] are read,
-// normals of those rings written.
+// `vertices`: the cylinder's block, 6 floats per vertex, for a group drawn over rings [vmin, vmax]. Writes
+// the normals of rings [first, last] (within [vmin, vmax]) and reads the positions of those rings and of
+// their neighbours in the group. Every vertex's sum is added in the same order whatever the range, so
+// splitting a cylinder into ranges (run in parallel) gives the same bytes as one call over it all.
 void cylinder_normals(const CylinderLayout& layout, std::uint32_t vmin, std::uint32_t vmax,
-                      std::span<float> vertices);
+                      std::uint32_t first, std::uint32_t last, std::span<float> vertices);
 
 }  // namespace rivulet

@@ -15,16 +15,15 @@ void set_position(std::span<float> v, std::uint32_t vertex, float x, float y, fl
 }  // namespace
 
 void deform_cylinder(ConstPositions p, std::span<const std::uint32_t> ring,
-                     std::span<const std::uint32_t> particle, const DeformParams& params,
-                     std::span<float> ccx, std::span<float> ccz, std::span<float> crho,
-                     std::span<float> vertices) {
+                     std::span<const std::uint32_t> particle, std::uint32_t vmin, std::uint32_t vmax,
+                     const DeformParams& params, std::span<float> ccx, std::span<float> ccz,
+                     std::span<float> crho, std::span<float> vertices) {
     const CylinderLayout& layout = params.layout;
     const std::uint32_t u = layout.u;
     const float radius = params.grid.radius;
     const float r2 = radius * radius;
     std::array<float, kMaxRingVertices> r{}, tmp{};
     const std::span<float> rs(r.data(), u), ts(tmp.data(), u);
-    const std::uint32_t vmin = ring.front(), vmax = ring.back();
 
     for (std::size_t begin = 0; begin < ring.size();) {
         const std::uint32_t v = ring[begin];

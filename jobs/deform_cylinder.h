@@ -22,11 +22,13 @@ struct DeformParams {
     AngleTable angles;  // U entries
 };
 
-// One group: `ring[e]`, `particle[e]` are its entries in ring order (group_lists.h). Circle scratch
-// (cx, cz, rho) has one slot per entry. `vertices` is this cylinder's block, 6 floats per vertex.
+// Rings of one group drawn over [vmin, vmax]: `ring[e]`, `particle[e]` are the entries of some of its
+// rings, in ring order (a slice of its list, group_lists.h); every ring is independent, so a cylinder can
+// be deformed in ring ranges. Circle scratch (cx, cz, rho) has one slot per entry. `vertices` is this
+// cylinder's block, 6 floats per vertex.
 void deform_cylinder(ConstPositions particles, std::span<const std::uint32_t> ring,
-                     std::span<const std::uint32_t> particle, const DeformParams& params,
-                     std::span<float> circle_cx, std::span<float> circle_cz, std::span<float> circle_rho,
-                     std::span<float> vertices);
+                     std::span<const std::uint32_t> particle, std::uint32_t vmin, std::uint32_t vmax,
+                     const DeformParams& params, std::span<float> circle_cx, std::span<float> circle_cz,
+                     std::span<float> circle_rho, std::span<float> vertices);
 
 }  // namespace rivulet

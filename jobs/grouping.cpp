@@ -44,9 +44,9 @@ GroupingResult group_entries(BinTableView bins, float eps, std::uint32_t max_gro
                              std::span<std::int32_t> entry_group, const GroupingScratch& s,
                              std::uint32_t linear_scan_max) {
     const auto nbins = static_cast<std::uint32_t>(bins.offsets.size() - 1);
-    for (std::uint32_t b = 0; b < nbins; ++b) build_bin_hash(bins, b, eps, s.hashes, linear_scan_max);
     for (std::uint32_t b = 0; b < nbins; ++b)
-        find_bin_neighbours(bins, b, eps, s.hashes, s.first_current, s.first_above, linear_scan_max);
+        find_bin_neighbours(bins, b, eps, s.own_hashes, s.above_hashes, s.first_current, s.first_above,
+                            linear_scan_max);
     return assign_groups(bins, s.first_current, s.first_above, max_groups, entry_group, s.blocked_bin);
 }
 

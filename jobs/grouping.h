@@ -38,12 +38,12 @@ GroupingResult assign_groups(BinTableView bins, std::span<const std::uint32_t> f
                              std::span<std::int32_t> entry_group, std::span<std::uint32_t> blocked_bin);
 
 struct GroupingScratch {
-    BinHashes hashes;
+    BinHashes own_hashes, above_hashes;
     std::span<std::uint32_t> first_current, first_above;  // one per entry
     std::span<std::uint32_t> blocked_bin;                 // max_groups
 };
 
-// Everything on the calling thread: hashes and neighbours of every bin, then assign_groups().
+// Everything on the calling thread: neighbours of every bin, then assign_groups().
 GroupingResult group_entries(BinTableView bins, float eps, std::uint32_t max_groups,
                              std::span<std::int32_t> entry_group, const GroupingScratch& scratch,
                              std::uint32_t linear_scan_max = kDefaultLinearScanMax);

@@ -1,7 +1,7 @@
 // Microbenchmarks of the per-frame jobs, each run serially on the calling thread (no TBB):
 //   BM_BinSort          begin_frame + bin_count (all chunks) + bin_prefix + bin_scatter (all chunks)
-//   BM_Grouping         all grouping jobs: bin_hash + bin_neighbours (every bin) + group (rules, lists);
-//                       BM_GroupingHash / BM_GroupingNeighbours / BM_GroupingRules time each phase alone
+//   BM_Grouping         all grouping jobs: bin_neighbours (every bin) + group (rules, lists);
+//                       BM_GroupingNeighbours / BM_GroupingRules time each phase alone
 //   BM_DeformAll        ScanConverter::deform of every group
 //   BM_NormalsAll       ScanConverter::normals of every group
 //   BM_CircleMaximaSmooth / BM_GaussianBlend   one ring (U = 20) of 10 circles (jobs/cross_section.h)
@@ -53,7 +53,6 @@ struct ScanFixture {
     }
     // Every grouping job of a frame, in order (as the frame graph runs them).
     void group_all() {
-        for (std::uint32_t b = 0; b < scan.bins_count(); ++b) scan.bin_hash(b);
         for (std::uint32_t b = 0; b < scan.bins_count(); ++b) scan.bin_neighbours(b);
         scan.group();
     }
@@ -95,17 +94,7 @@ void BM_Grouping(benchmark::State& state) {
 }
 BENCHMARK(BM_Grouping)->Unit(benchmark::kMicrosecond);
 
-// The grouping phases alone: per-bin hash, per-bin neighbour search, serial rules + group lists.
-void BM_GroupingHash(benchmark::State& state) {
-    auto& f = ScanFixture::get();
-    for (auto _ : state) {
-        for (std::uint32_t b = 0; b < f.scan.bins_count(); ++b) f.scan.bin_hash(b);
-        benchmark::ClobberMemory();
-    }
-    counters(state, f);
-}
-BENCHMARK(BM_GroupingHash)->Unit(benchmark::kMicrosecond);
-
+// The grouping phases alone: per-bin neighbour search (lazy hashes included), serial rules + group lists.
 void BM_GroupingNeighbours(benchmark::State& state) {
     auto& f = ScanFixture::get();
     for (auto _ : state) {
@@ -130,7 +119,7 @@ void BM_DeformAll(benchmark::State& state) {
     auto& f = ScanFixture::get();
     const auto p = f.set.positions();
     for (auto _ : state) {
-        for (std::uint32_t g = 0; g < f.scan.groups(); ++g) f.scan.deform(p, g, f.out);
+        for (std::uint32_t i = 0; i < f.scan.pieces(); ++i) f.scan.deform(p, i, f.out);
         benchmark::ClobberMemory();
     }
     counters(state, f);
@@ -140,7 +129,7 @@ BENCHMARK(BM_DeformAll)->Unit(benchmark::kMicrosecond);
 void BM_NormalsAll(benchmark::State& state) {
     auto& f = ScanFixture::get();
     for (auto _ : state) {
-        for (std::uint32_t g = 0; g < f.scan.groups(); ++g) f.scan.normals(g, f.out);
+        for (std::uint32_t i = 0; i < f.scan.pieces(); ++i) f.scan.normals(i, f.out);
         benchmark::ClobberMemory();
     }
     counters(state, f);

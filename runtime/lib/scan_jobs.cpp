@@ -18,20 +18,17 @@ ScanJobIds add_scan_jobs(FrameGraph& g, ScanConverter& scan, std::function<Const
     id.bin_scatter = g.parallel(
         "bin_sort.scatter", [&s] { return std::size_t(s.chunks()); },
         [&s, pos](std::size_t c) { s.bin_scatter(pos(), static_cast<std::uint32_t>(c)); }, {id.bin_prefix});
-    id.bin_hash = g.parallel(
-        "grouping.hash", [&s] { return std::size_t(s.bins_count()); },
-        [&s](std::size_t b) { s.bin_hash(static_cast<std::uint32_t>(b)); }, {id.bin_scatter});
     id.bin_neighbours = g.parallel(
         "grouping.neighbours", [&s] { return std::size_t(s.bins_count()); },
-        [&s](std::size_t b) { s.bin_neighbours(static_cast<std::uint32_t>(b)); }, {id.bin_hash});
+        [&s](std::size_t b) { s.bin_neighbours(static_cast<std::uint32_t>(b)); }, {id.bin_scatter});
     id.grouping = g.serial("grouping", [&s] { s.group(); }, {id.bin_neighbours});
     id.deform = g.parallel(
-        "deform", [&s] { return std::size_t(s.groups()); },
-        [&s, pos, out](std::size_t gi) { s.deform(pos(), static_cast<std::uint32_t>(gi), out()); },
+        "deform", [&s] { return std::size_t(s.pieces()); },
+        [&s, pos, out](std::size_t i) { s.deform(pos(), static_cast<std::uint32_t>(i), out()); },
         {id.grouping});
     id.normals = g.parallel(
-        "normals", [&s] { return std::size_t(s.groups()); },
-        [&s, out](std::size_t gi) { s.normals(static_cast<std::uint32_t>(gi), out()); }, {id.deform});
+        "normals", [&s] { return std::size_t(s.pieces()); },
+        [&s, out](std::size_t i) { s.normals(static_cast<std::uint32_t>(i), out()); }, {id.deform});
     id.isolated = g.serial("isolated", [&s, pos, out] { s.isolated(pos(), out()); }, {id.grouping});
     id.stage = g.serial("stage", [&s, out] { s.stage(out()); }, {id.normals, id.isolated});
     return id;

@@ -1,5 +1,6 @@
 #include "systems/scan/scan_converter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -43,9 +44,8 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     entry_group_.reserve(entry_capacity_);
     grouped_.reserve(max_particles);
     blocked_bin_.reserve(settings.max_groups);
-    hash_start_.reserve(bin_hash_start_capacity(entry_capacity_, grid_.bins));
-    hash_items_.reserve(entry_capacity_);
-    hash_x_.reserve(entry_capacity_), hash_y_.reserve(entry_capacity_), hash_z_.reserve(entry_capacity_);
+    own_hashes_.reserve(entry_capacity_, grid_.bins);
+    above_hashes_.reserve(entry_capacity_, grid_.bins);
     first_current_.reserve(entry_capacity_), first_above_.reserve(entry_capacity_);
     list_offsets_.reserve(settings.max_groups + 1);
     list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
@@ -53,6 +53,9 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
         list_cursor_.reserve(settings.max_groups);
     circle_cx_.reserve(entry_capacity_), circle_cz_.reserve(entry_capacity_),
         circle_rho_.reserve(entry_capacity_);
+    const std::size_t max_pieces =
+        std::size_t(settings.max_groups) * ((settings.v + kRingsPerPiece - 1) / kRingsPerPiece);
+    piece_group_.reserve(max_pieces), piece_first_.reserve(max_pieces);
 }
 
 void ScanConverter::prepare_output(ScanOutput& out) const {
@@ -68,6 +71,7 @@ void ScanConverter::begin_frame(ConstPositions p) {
     particles_ = p.size();
     chunks_ = static_cast<std::uint32_t>((particles_ + kChunk - 1) / kChunk);
     grouping_ = {};
+    pieces_ = 0;
 }
 
 void ScanConverter::bin_count(ConstPositions p, std::uint32_t chunk) {
@@ -99,17 +103,21 @@ BinTableView ScanConverter::bins() const {
             entry_y_.span(entries_), entry_z_.span(entries_)};
 }
 
-BinHashes ScanConverter::hashes() {
-    return {hash_start_.span(hash_start_.capacity()), hash_items_.span(entries_), hash_x_.span(entries_),
-            hash_y_.span(entries_), hash_z_.span(entries_)};
+void ScanConverter::HashTables::reserve(std::size_t entries, std::size_t bins) {
+    start.reserve(bin_hash_start_capacity(entries, bins));
+    items.reserve(entries), bucket.reserve(entries);
+    x.reserve(entries), y.reserve(entries), z.reserve(entries);
 }
 
-void ScanConverter::bin_hash(std::uint32_t bin) {
-    build_bin_hash(bins(), bin, settings_.grouping_distance(), hashes());
+BinHashes ScanConverter::HashTables::view(std::size_t entries) {
+    return {
+        start.span(start.capacity()), items.span(entries), x.span(entries), y.span(entries), z.span(entries),
+        bucket.span(entries)};
 }
 
 void ScanConverter::bin_neighbours(std::uint32_t bin) {
-    find_bin_neighbours(bins(), bin, settings_.grouping_distance(), hashes(), first_current_.span(entries_),
+    find_bin_neighbours(bins(), bin, settings_.grouping_distance(), own_hashes_.view(entries_),
+                        above_hashes_.view(entries_), first_current_.span(entries_),
                         first_above_.span(entries_));
 }
 
@@ -123,23 +131,43 @@ void ScanConverter::group() {
         {list_offsets_.span(grouping_.groups + 1), list_bin_.span(entries_), list_particle_.span(entries_),
          vmin_.span(grouping_.groups), vmax_.span(grouping_.groups), list_cursor_.span(grouping_.groups),
          grouped_.span(particles_)});
+    split_into_pieces();
 }
 
-void ScanConverter::deform(ConstPositions p, std::uint32_t g, ScanOutput& out) {
-    const std::uint32_t begin = list_offsets_[g], n = list_offsets_[g + 1] - begin;
+void ScanConverter::split_into_pieces() {
+    pieces_ = 0;
+    for (std::uint32_t g = 0; g < grouping_.groups; ++g) {
+        for (std::uint32_t first = vmin_[g]; first <= vmax_[g]; first += kRingsPerPiece) {
+            piece_group_[pieces_] = g;
+            piece_first_[pieces_] = first;
+            ++pieces_;
+        }
+    }
+}
+
+void ScanConverter::deform(ConstPositions p, std::uint32_t piece, ScanOutput& out) {
+    const std::uint32_t g = piece_group_[piece], first = piece_first_[piece];
+    const std::uint32_t last = std::min(first + kRingsPerPiece - 1, vmax_[g]);
+    // The group's list is in ring order: the piece's entries are one run of it.
+    const std::uint32_t* list = list_bin_.data();
+    const std::uint32_t* from = std::lower_bound(list + list_offsets_[g], list + list_offsets_[g + 1], first);
+    const std::uint32_t* to = std::upper_bound(from, list + list_offsets_[g + 1], last);
+    const auto begin = static_cast<std::size_t>(from - list), n = static_cast<std::size_t>(to - from);
     const DeformParams params{
         grid_, layout_, settings_.section, {cos_t_.span(settings_.u), sin_t_.span(settings_.u)}};
     const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
     deform_cylinder(p, list_bin_.span(entries_).subspan(begin, n),
-                    list_particle_.span(entries_).subspan(begin, n), params,
+                    list_particle_.span(entries_).subspan(begin, n), vmin_[g], vmax_[g], params,
                     circle_cx_.span(entries_).subspan(begin, n), circle_cz_.span(entries_).subspan(begin, n),
                     circle_rho_.span(entries_).subspan(begin, n),
                     out.vertices.span(out.vertices.capacity()).subspan(g * vpc, vpc));
 }
 
-void ScanConverter::normals(std::uint32_t g, ScanOutput& out) {
+void ScanConverter::normals(std::uint32_t piece, ScanOutput& out) {
+    const std::uint32_t g = piece_group_[piece], first = piece_first_[piece];
+    const std::uint32_t last = std::min(first + kRingsPerPiece - 1, vmax_[g]);
     const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
-    cylinder_normals(layout_, vmin_[g], vmax_[g],
+    cylinder_normals(layout_, vmin_[g], vmax_[g], first, last,
                      out.vertices.span(out.vertices.capacity()).subspan(g * vpc, vpc));
 }
 
@@ -165,11 +193,10 @@ void ScanConverter::extract_serial(ConstPositions p, ScanOutput& out) {
     for (std::uint32_t c = 0; c < chunks_; ++c) bin_count(p, c);
     bin_prefix();
     for (std::uint32_t c = 0; c < chunks_; ++c) bin_scatter(p, c);
-    for (std::uint32_t b = 0; b < grid_.bins; ++b) bin_hash(b);
     for (std::uint32_t b = 0; b < grid_.bins; ++b) bin_neighbours(b);
     group();
-    for (std::uint32_t g = 0; g < groups(); ++g) deform(p, g, out);
-    for (std::uint32_t g = 0; g < groups(); ++g) normals(g, out);
+    for (std::uint32_t i = 0; i < pieces(); ++i) deform(p, i, out);
+    for (std::uint32_t i = 0; i < pieces(); ++i) normals(i, out);
     isolated(p, out);
     stage(out);
 }

@@ -6,7 +6,7 @@
 //   bin_count(chunk)*  -> bin_prefix -> bin_scatter(chunk)*      hash sort into V bins  (jobs/bin_sort.h)
 //   -> group                                                      grouping + group lists (jobs/grouping.h,
 //   group_lists.h)
-//   -> deform(group)*  -> normals(group)*                         per cylinder (jobs/deform_cylinder.h,
+//   -> deform(piece)*  -> normals(piece)*                         per cylinder piece (jobs/deform_cylinder.h,
 //   cylinder_normals.h)
 //   -> isolated (beside deform)                                   sphere instances
 //   (jobs/isolated_particles.h)
@@ -30,6 +30,9 @@ namespace rivulet {
 class ScanConverter {
   public:
     static constexpr std::uint32_t kChunk = 4096;  // particles per bin-sort chunk
+    // Rings per piece: deformation and normals run per piece of a cylinder, not per cylinder, so one
+    // long stream still spreads over every worker and pieces of unequal groups balance.
+    static constexpr std::uint32_t kRingsPerPiece = 16;
 
     // Throws std::invalid_argument when settings.validate() fails.
     ScanConverter(const ScanSettings& settings, std::size_t max_particles);
@@ -48,12 +51,13 @@ class ScanConverter {
     void bin_prefix();
     void bin_scatter(ConstPositions p, std::uint32_t chunk);
     std::uint32_t bins_count() const { return grid_.bins; }
-    void bin_hash(std::uint32_t bin);
     void bin_neighbours(std::uint32_t bin);
     void group();
     std::uint32_t groups() const { return grouping_.groups; }
-    void deform(ConstPositions p, std::uint32_t group, ScanOutput& out);
-    void normals(std::uint32_t group, ScanOutput& out);
+    // Pieces of this frame's cylinders (set by group()): piece i is rings [first, last] of one group.
+    std::uint32_t pieces() const { return pieces_; }
+    void deform(ConstPositions p, std::uint32_t piece, ScanOutput& out);
+    void normals(std::uint32_t piece, ScanOutput& out);
     void isolated(ConstPositions p, ScanOutput& out);
     void stage(ScanOutput& out);
 
@@ -84,11 +88,20 @@ class ScanConverter {
     AlignedArray<float> entry_x_, entry_y_, entry_z_;
     AlignedArray<std::int32_t> entry_group_;
     AlignedArray<std::uint8_t> grouped_;
-    AlignedArray<std::uint32_t> blocked_bin_, hash_start_, hash_items_, first_current_, first_above_;
-    AlignedArray<float> hash_x_, hash_y_, hash_z_;
-    BinHashes hashes();
+    AlignedArray<std::uint32_t> blocked_bin_, first_current_, first_above_;
+    // Storage of one set of per-bin hash tables (jobs/bin_neighbours.h); the neighbour jobs need two.
+    struct HashTables {
+        AlignedArray<std::uint32_t> start, items, bucket;
+        AlignedArray<float> x, y, z;
+        void reserve(std::size_t entries, std::size_t bins);
+        BinHashes view(std::size_t entries);
+    };
+    HashTables own_hashes_, above_hashes_;
     AlignedArray<std::uint32_t> list_offsets_, list_bin_, list_particle_, vmin_, vmax_, list_cursor_;
     AlignedArray<float> circle_cx_, circle_cz_, circle_rho_;
+    std::uint32_t pieces_ = 0;
+    AlignedArray<std::uint32_t> piece_group_, piece_first_;
+    void split_into_pieces();
 };
 
 }  // namespace rivulet

@@ -16,13 +16,15 @@ Bins bin_sort(const BinGrid& grid, const Cloud& c) {
 std::vector<std::int32_t> group(const Cloud&, const Bins& bins, float eps, std::uint32_t max_groups,
                                 GroupingResult* result, std::uint32_t linear_scan_max) {
     const std::size_t n = bins.entries.size();
-    std::vector<std::uint32_t> start(bin_hash_start_capacity(n, bins.offsets.size() - 1)), items(n), cur(n),
-        above(n), blocked(max_groups);
-    std::vector<float> hx(n), hy(n), hz(n);
+    const std::size_t table = bin_hash_start_capacity(n, bins.offsets.size() - 1);
+    std::vector<std::uint32_t> start(table), items(n), bucket(n), start2(table), items2(n), bucket2(n),
+        cur(n), above(n), blocked(max_groups);
+    std::vector<float> hx(n), hy(n), hz(n), hx2(n), hy2(n), hz2(n);
     std::vector<std::int32_t> entry_group(n);
-    const GroupingResult r =
-        group_entries(bins.view(), eps, max_groups, entry_group,
-                      {{start, items, hx, hy, hz}, cur, above, blocked}, linear_scan_max);
+    const GroupingResult r = group_entries(
+        bins.view(), eps, max_groups, entry_group,
+        {{start, items, hx, hy, hz, bucket}, {start2, items2, hx2, hy2, hz2, bucket2}, cur, above, blocked},
+        linear_scan_max);
     if (result) *result = r;
     return entry_group;
 }

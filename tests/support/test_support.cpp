@@ -47,9 +47,9 @@ std::string temp_path(const std::string& name) {
     return (dir / name).string();
 }
 
-Result run_cli(const std::string& args) {
+Result run_cli(const std::string& args, const std::string& environment) {
     Result r;
-    const std::string cmd = std::string(RIVULET_CLI) + " " + args + " 2>&1";
+    const std::string cmd = environment + " " + std::string(RIVULET_CLI) + " " + args + " 2>&1";
     FILE* pipe = ::popen(cmd.c_str(), "r");
     if (!pipe) return r;
     std::array<char, 4096> buf{};

@@ -19,7 +19,8 @@ struct Result {
     int status = -1;
     std::string output;
 };
-Result run_cli(const std::string& args);
+// `environment`: assignments put before the command, e.g. "RIVULET_NO_AVX2=1".
+Result run_cli(const std::string& args, const std::string& environment = "");
 
 nlohmann::json read_json(const std::string& path);
 void write_text(const std::string& path, const std::string& text);

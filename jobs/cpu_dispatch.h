@@ -1,0 +1,30 @@
+#pragma once
+// A few kernels are compiled twice, for the x86-64 baseline (SSE2) and for AVX2, and the AVX2 build runs
+// when the CPU has it; the release build itself needs no -march flag and runs anywhere. Both builds do
+// the same IEEE operations per element in the same order (no FMA: -ffp-contract=off, and the AVX2
+// target does not enable it), so they give the same bytes.
+//
+//   RIVULET_AVX2 void kernel_avx2(args) { kernel_body(args); }       // body: an always-inline function
+//   void kernel(args) { if (cpu_has_avx2()) kernel_avx2(args); else kernel_body(args); }
+//
+// RIVULET_NO_AVX2=1 in the environment forces the baseline builds (tests compare the two).
+#include <cstdlib>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define RIVULET_AVX2 __attribute__((target("avx2")))
+#define RIVULET_INLINE [[gnu::always_inline]] inline
+namespace rivulet {
+inline bool cpu_has_avx2() {
+    static const bool has = __builtin_cpu_supports("avx2") && std::getenv("RIVULET_NO_AVX2") == nullptr;
+    return has;
+}
+}  // namespace rivulet
+#else
+#define RIVULET_AVX2
+#define RIVULET_INLINE inline
+namespace rivulet {
+inline bool cpu_has_avx2() {
+    return false;
+}
+}  // namespace rivulet
+#endif
