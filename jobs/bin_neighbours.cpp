@@ -164,20 +164,20 @@ std::size_t bin_hash_start_capacity(std::size_t entries, std::size_t bins) {
 }
 
 void find_bin_neighbours(BinTableView bins, std::uint32_t b, float eps, const BinHashes& own,
-                         const BinHashes& above, std::span<std::uint32_t> first_current,
-                         std::span<std::uint32_t> first_above, std::uint32_t linear_scan_max) {
+                         const BinHashes& above, std::span<std::uint32_t> link,
+                         std::uint32_t linear_scan_max) {
     const float inv_cell = 0.5f / eps, eps2 = eps * eps;
     const std::uint32_t base = bins.offsets[b], n = bins.bin_size(b);
     LazyHash own_hash{own}, above_hash{above};
     for (std::uint32_t j = 0; j < n; ++j) {
         const std::uint32_t e = base + j;
         const Query q(bins.ex[e], bins.ey[e], bins.ez[e], eps2);
-        first_current[e] = first_within(bins, b, j, q, eps, inv_cell, own_hash, linear_scan_max);
+        link[e] = first_within(bins, b, j, q, eps, inv_cell, own_hash, linear_scan_max);
         // The rules look above only when nothing in the own bin is near.
-        const bool look_above = b > 0 && first_current[e] == kNoNeighbour;
-        first_above[e] = look_above ? first_within(bins, b - 1, bins.bin_size(b - 1), q, eps, inv_cell,
-                                                   above_hash, linear_scan_max)
-                                    : kNoNeighbour;
+        if (link[e] != kNoNeighbour || b == 0) continue;
+        const std::uint32_t above_entry =
+            first_within(bins, b - 1, bins.bin_size(b - 1), q, eps, inv_cell, above_hash, linear_scan_max);
+        if (above_entry != kNoNeighbour) link[e] = above_entry | kLinkAbove;
     }
 }
 

@@ -20,6 +20,8 @@
 namespace rivulet {
 
 inline constexpr std::uint32_t kNoNeighbour = std::numeric_limits<std::uint32_t>::max();
+// A link with this bit set names an entry of the bin above; entry indices stay below 2^31 - 1.
+inline constexpr std::uint32_t kLinkAbove = 1u << 31;
 inline constexpr std::uint32_t kDefaultLinearScanMax = 64;
 
 // Per-bin hash tables of the whole bin table, laid out by bin offsets; sized with the function below.
@@ -32,13 +34,13 @@ struct BinHashes {
 
 std::size_t bin_hash_start_capacity(std::size_t entries, std::size_t bins);
 
-// One job per bin: first_current[e] for every entry e of bin b, and first_above[e] where first_current[e]
-// is kNoNeighbour, as global entry indices (else kNoNeighbour). `own` and `above` are two separate
-// tables of the same size (see above); only bin b's region of `own` and bin b-1's region of `above` are
-// written.
+// One job per bin: link[e] for every entry e of bin b, all the seed's rules need of its neighbours: the
+// global index of the first earlier entry of bin b within eps; else, when there is none, the first entry
+// of bin b-1 within eps, or-ed with kLinkAbove; else kNoNeighbour. One word per entry keeps what the
+// serial rules pass reads small. `own` and `above` are two separate tables of the same size (see above);
+// only bin b's region of `own` and bin b-1's region of `above` are written.
 void find_bin_neighbours(BinTableView bins, std::uint32_t b, float eps, const BinHashes& own,
-                         const BinHashes& above, std::span<std::uint32_t> first_current,
-                         std::span<std::uint32_t> first_above,
+                         const BinHashes& above, std::span<std::uint32_t> link,
                          std::uint32_t linear_scan_max = kDefaultLinearScanMax);
 
 }  // namespace rivulet

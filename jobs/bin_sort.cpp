@@ -21,11 +21,16 @@ std::uint32_t BinGrid::max_bins_per_particle() const {
     return static_cast<std::uint32_t>(std::floor(2.0f * radius / spacing)) + 2u;
 }
 
-void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<std::uint32_t> counts) {
+void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<std::uint32_t> counts,
+                     const ParticleBins& spans) {
     for (auto& c : counts) c = 0;
     std::uint32_t first = 0, last = 0;
-    for (float yi : y) {
-        if (!grid.span_of(yi, first, last)) continue;
+    for (std::size_t i = 0; i < y.size(); ++i) {
+        if (!grid.span_of(y[i], first, last)) {
+            spans.first[i] = spans.end[i] = 0;
+            continue;
+        }
+        spans.first[i] = first, spans.end[i] = last + 1;
         for (std::uint32_t b = first; b <= last; ++b) ++counts[b];
     }
 }
@@ -44,12 +49,10 @@ std::uint32_t bin_prefix(std::uint32_t bins, std::uint32_t chunks, std::span<con
     return running;
 }
 
-void bin_scatter_chunk(const BinGrid& grid, ConstPositions p, std::uint32_t first_index,
+void bin_scatter_chunk(ConstPositions p, std::uint32_t first_index, const ParticleBins& spans,
                        std::span<std::uint32_t> cursors, const BinEntriesOut& out) {
-    std::uint32_t first = 0, last = 0;
     for (std::uint32_t i = 0; i < p.size(); ++i) {
-        if (!grid.span_of(p.y[i], first, last)) continue;
-        for (std::uint32_t b = first; b <= last; ++b) {
+        for (std::uint32_t b = spans.first[i]; b < spans.end[i]; ++b) {
             const std::uint32_t e = cursors[b]++;
             out.entries[e] = first_index + i;
             out.ex[e] = p.x[i], out.ey[e] = p.y[i], out.ez[e] = p.z[i];

@@ -38,8 +38,15 @@ struct BinTableView {
     }
 };
 
-// Pass 1, per chunk: counts[b] = entries chunk `y` adds to bin b (counts has grid.bins slots).
-void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<std::uint32_t> counts);
+// Each particle's planes [first, end) (empty when it cuts none), found by pass 1 and used by pass 2.
+struct ParticleBins {
+    std::span<std::uint32_t> first, end;
+};
+
+// Pass 1, per chunk: counts[b] = entries chunk `y` adds to bin b (counts has grid.bins slots), and the
+// chunk's particles' plane ranges.
+void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<std::uint32_t> counts,
+                     const ParticleBins& spans);
 
 // Between the passes, once: turns per-chunk counts (chunk-major: counts[c * bins + b]) into per-chunk
 // write cursors (same layout) and the bin offsets (bins + 1). Returns the total entry count.
@@ -52,8 +59,8 @@ struct BinEntriesOut {
 };
 
 // Pass 2, per chunk: writes the indices (first_index + i) and positions of chunk `p` at its cursors
-// (advanced in place).
-void bin_scatter_chunk(const BinGrid& grid, ConstPositions p, std::uint32_t first_index,
+// (advanced in place), into the planes pass 1 found for them.
+void bin_scatter_chunk(ConstPositions p, std::uint32_t first_index, const ParticleBins& spans,
                        std::span<std::uint32_t> cursors, const BinEntriesOut& out);
 
 }  // namespace rivulet

@@ -2,8 +2,7 @@
 
 namespace rivulet {
 
-GroupingResult assign_groups(BinTableView bins, std::span<const std::uint32_t> first_current,
-                             std::span<const std::uint32_t> first_above, std::uint32_t max_groups,
+GroupingResult assign_groups(BinTableView bins, std::span<const std::uint32_t> link, std::uint32_t max_groups,
                              std::span<std::int32_t> group, std::span<std::uint32_t> blocked_bin) {
     GroupingResult result;
     for (std::uint32_t g = 0; g < max_groups; ++g) blocked_bin[g] = kNoNeighbour;
@@ -22,13 +21,14 @@ GroupingResult assign_groups(BinTableView bins, std::span<const std::uint32_t> f
     const auto nbins = static_cast<std::uint32_t>(bins.offsets.size() - 1);
     for (std::uint32_t b = 0; b < nbins; ++b) {
         for (std::uint32_t e = bins.offsets[b]; e < bins.offsets[b + 1]; ++e) {
-            if (const std::uint32_t c = first_current[e]; c != kNoNeighbour) {
-                group[e] = group[c] >= 0 ? group[c] : new_group(c, b);
-            } else if (const std::uint32_t q = first_above[e]; q == kNoNeighbour) {
+            const std::uint32_t l = link[e];
+            if (l == kNoNeighbour) {
                 group[e] = kIsolated;
-            } else if (const std::int32_t gk = group[q]; gk < 0) {
+            } else if (!(l & kLinkAbove)) {
+                group[e] = group[l] >= 0 ? group[l] : new_group(l, b);
+            } else if (const std::uint32_t q = l & ~kLinkAbove; group[q] < 0) {
                 group[e] = new_group(q, b);
-            } else if (blocked_bin[gk] == b) {
+            } else if (const std::int32_t gk = group[q]; blocked_bin[gk] == b) {
                 group[e] = kIsolated;
             } else {
                 group[e] = gk;
@@ -45,9 +45,8 @@ GroupingResult group_entries(BinTableView bins, float eps, std::uint32_t max_gro
                              std::uint32_t linear_scan_max) {
     const auto nbins = static_cast<std::uint32_t>(bins.offsets.size() - 1);
     for (std::uint32_t b = 0; b < nbins; ++b)
-        find_bin_neighbours(bins, b, eps, s.own_hashes, s.above_hashes, s.first_current, s.first_above,
-                            linear_scan_max);
-    return assign_groups(bins, s.first_current, s.first_above, max_groups, entry_group, s.blocked_bin);
+        find_bin_neighbours(bins, b, eps, s.own_hashes, s.above_hashes, s.link, linear_scan_max);
+    return assign_groups(bins, s.link, max_groups, entry_group, s.blocked_bin);
 }
 
 }  // namespace rivulet

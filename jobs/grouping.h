@@ -31,16 +31,15 @@ struct GroupingResult {
     std::uint32_t pool_exhausted = 0;    // entries isolated only because no cylinder was left
 };
 
-// The serial pass: entry_group[e] receives the group of entry e, or kIsolated. blocked_bin: max_groups
-// slots of scratch.
-GroupingResult assign_groups(BinTableView bins, std::span<const std::uint32_t> first_current,
-                             std::span<const std::uint32_t> first_above, std::uint32_t max_groups,
+// The serial pass over the links of find_bin_neighbours: entry_group[e] receives the group of entry e, or
+// kIsolated. blocked_bin: max_groups slots of scratch.
+GroupingResult assign_groups(BinTableView bins, std::span<const std::uint32_t> link, std::uint32_t max_groups,
                              std::span<std::int32_t> entry_group, std::span<std::uint32_t> blocked_bin);
 
 struct GroupingScratch {
     BinHashes own_hashes, above_hashes;
-    std::span<std::uint32_t> first_current, first_above;  // one per entry
-    std::span<std::uint32_t> blocked_bin;                 // max_groups
+    std::span<std::uint32_t> link;         // one per entry
+    std::span<std::uint32_t> blocked_bin;  // max_groups
 };
 
 // Everything on the calling thread: neighbours of every bin, then assign_groups().

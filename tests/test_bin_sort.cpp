@@ -21,13 +21,15 @@ struct Table {
 Table sort_in_chunks(const BinGrid& grid, const std::vector<float>& y, std::uint32_t chunk) {
     const auto n = static_cast<std::uint32_t>(y.size());
     const std::uint32_t chunks = (n + chunk - 1) / chunk;
-    std::vector<std::uint32_t> counts(std::size_t(chunks) * grid.bins), cursors(counts.size());
+    std::vector<std::uint32_t> counts(std::size_t(chunks) * grid.bins), cursors(counts.size()), first(n),
+        end(n);
     Table t;
     t.offsets.resize(grid.bins + 1);
     for (std::uint32_t c = 0; c < chunks; ++c) {
         const std::uint32_t b = c * chunk, e = std::min(n, b + chunk);
         bin_count_chunk(grid, std::span(y).subspan(b, e - b),
-                        std::span(counts).subspan(std::size_t(c) * grid.bins, grid.bins));
+                        std::span(counts).subspan(std::size_t(c) * grid.bins, grid.bins),
+                        {std::span(first).subspan(b, e - b), std::span(end).subspan(b, e - b)});
     }
     const std::uint32_t total = bin_prefix(grid.bins, chunks, counts, cursors, t.offsets);
     t.entries.resize(total), t.ex.resize(total), t.ey.resize(total), t.ez.resize(total);
@@ -38,7 +40,8 @@ Table sort_in_chunks(const BinGrid& grid, const std::vector<float>& y, std::uint
         const std::uint32_t b = c * chunk, e = std::min(n, b + chunk);
         const ConstPositions part{std::span(x).subspan(b, e - b), std::span(y).subspan(b, e - b),
                                   std::span(z).subspan(b, e - b)};
-        bin_scatter_chunk(grid, part, b, std::span(cursors).subspan(std::size_t(c) * grid.bins, grid.bins),
+        bin_scatter_chunk(part, b, {std::span(first).subspan(b, e - b), std::span(end).subspan(b, e - b)},
+                          std::span(cursors).subspan(std::size_t(c) * grid.bins, grid.bins),
                           {t.entries, t.ex, t.ey, t.ez});
     }
     for (std::uint32_t k = 0; k < total; ++k) {

@@ -25,9 +25,10 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     grid_.radius = settings.radius;
 
     entry_capacity_ = max_particles * std::min<std::size_t>(grid_.max_bins_per_particle(), settings.v);
-    if (entry_capacity_ > (std::size_t(1) << 31))
+    // Grouping links keep entry indices in 31 bits (jobs/bin_neighbours.h).
+    if (entry_capacity_ >= (std::size_t(1) << 31))
         throw std::invalid_argument(
-            "particles x cross-sections per particle exceed 2^31 bin entries: lower --v or --radius");
+            "particles x cross-sections per particle reach 2^31 bin entries: lower --v or --radius");
     max_chunks_ = static_cast<std::uint32_t>((max_particles + kChunk - 1) / kChunk);
 
     cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
@@ -43,10 +44,11 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     entry_x_.reserve(entry_capacity_), entry_y_.reserve(entry_capacity_), entry_z_.reserve(entry_capacity_);
     entry_group_.reserve(entry_capacity_);
     grouped_.reserve(max_particles);
+    particle_first_bin_.reserve(max_particles), particle_end_bin_.reserve(max_particles);
     blocked_bin_.reserve(settings.max_groups);
     own_hashes_.reserve(entry_capacity_, grid_.bins);
     above_hashes_.reserve(entry_capacity_, grid_.bins);
-    first_current_.reserve(entry_capacity_), first_above_.reserve(entry_capacity_);
+    link_.reserve(entry_capacity_);
     list_offsets_.reserve(settings.max_groups + 1);
     list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
     vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups),
@@ -78,7 +80,13 @@ void ScanConverter::bin_count(ConstPositions p, std::uint32_t chunk) {
     const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
     bin_count_chunk(
         grid_, p.y.subspan(begin, end - begin),
-        chunk_counts_.span(chunk_counts_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins));
+        chunk_counts_.span(chunk_counts_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins),
+        particle_bins(begin, end - begin));
+}
+
+ParticleBins ScanConverter::particle_bins(std::size_t begin, std::size_t n) {
+    return {particle_first_bin_.span(max_particles_).subspan(begin, n),
+            particle_end_bin_.span(max_particles_).subspan(begin, n)};
 }
 
 void ScanConverter::bin_prefix() {
@@ -91,8 +99,8 @@ void ScanConverter::bin_scatter(ConstPositions p, std::uint32_t chunk) {
     const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
     const std::size_t n = end - begin;
     bin_scatter_chunk(
-        grid_, {p.x.subspan(begin, n), p.y.subspan(begin, n), p.z.subspan(begin, n)},
-        static_cast<std::uint32_t>(begin),
+        {p.x.subspan(begin, n), p.y.subspan(begin, n), p.z.subspan(begin, n)},
+        static_cast<std::uint32_t>(begin), particle_bins(begin, n),
         chunk_cursors_.span(chunk_cursors_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins),
         {bin_entries_.span(entry_capacity_), entry_x_.span(entry_capacity_), entry_y_.span(entry_capacity_),
          entry_z_.span(entry_capacity_)});
@@ -117,15 +125,13 @@ BinHashes ScanConverter::HashTables::view(std::size_t entries) {
 
 void ScanConverter::bin_neighbours(std::uint32_t bin) {
     find_bin_neighbours(bins(), bin, settings_.grouping_distance(), own_hashes_.view(entries_),
-                        above_hashes_.view(entries_), first_current_.span(entries_),
-                        first_above_.span(entries_));
+                        above_hashes_.view(entries_), link_.span(entries_));
 }
 
 void ScanConverter::group() {
     const BinTableView table = bins();
-    grouping_ =
-        assign_groups(table, first_current_.span(entries_), first_above_.span(entries_), settings_.max_groups,
-                      entry_group_.span(entries_), blocked_bin_.span(settings_.max_groups));
+    grouping_ = assign_groups(table, link_.span(entries_), settings_.max_groups, entry_group_.span(entries_),
+                              blocked_bin_.span(settings_.max_groups));
     build_group_lists(
         table, entry_group_.span(entries_), grouping_.groups,
         {list_offsets_.span(grouping_.groups + 1), list_bin_.span(entries_), list_particle_.span(entries_),

@@ -88,7 +88,9 @@ class ScanConverter {
     AlignedArray<float> entry_x_, entry_y_, entry_z_;
     AlignedArray<std::int32_t> entry_group_;
     AlignedArray<std::uint8_t> grouped_;
-    AlignedArray<std::uint32_t> blocked_bin_, first_current_, first_above_;
+    AlignedArray<std::uint32_t> particle_first_bin_, particle_end_bin_;
+    ParticleBins particle_bins(std::size_t begin, std::size_t n);
+    AlignedArray<std::uint32_t> blocked_bin_, link_;
     // Storage of one set of per-bin hash tables (jobs/bin_neighbours.h); the neighbour jobs need two.
     struct HashTables {
         AlignedArray<std::uint32_t> start, items, bucket;

@@ -4,12 +4,12 @@ namespace rivulet::test {
 
 Bins bin_sort(const BinGrid& grid, const Cloud& c) {
     Bins b;
-    std::vector<std::uint32_t> counts(grid.bins), cursors(grid.bins);
+    std::vector<std::uint32_t> counts(grid.bins), cursors(grid.bins), first(c.y.size()), end(c.y.size());
     b.offsets.resize(grid.bins + 1);
-    bin_count_chunk(grid, c.y, counts);
+    bin_count_chunk(grid, c.y, counts, {first, end});
     const std::uint32_t n = bin_prefix(grid.bins, 1, counts, cursors, b.offsets);
     b.entries.resize(n), b.ex.resize(n), b.ey.resize(n), b.ez.resize(n);
-    bin_scatter_chunk(grid, c.view(), 0, cursors, {b.entries, b.ex, b.ey, b.ez});
+    bin_scatter_chunk(c.view(), 0, {first, end}, cursors, {b.entries, b.ex, b.ey, b.ez});
     return b;
 }
 
@@ -18,12 +18,12 @@ std::vector<std::int32_t> group(const Cloud&, const Bins& bins, float eps, std::
     const std::size_t n = bins.entries.size();
     const std::size_t table = bin_hash_start_capacity(n, bins.offsets.size() - 1);
     std::vector<std::uint32_t> start(table), items(n), bucket(n), start2(table), items2(n), bucket2(n),
-        cur(n), above(n), blocked(max_groups);
+        link(n), blocked(max_groups);
     std::vector<float> hx(n), hy(n), hz(n), hx2(n), hy2(n), hz2(n);
     std::vector<std::int32_t> entry_group(n);
     const GroupingResult r = group_entries(
         bins.view(), eps, max_groups, entry_group,
-        {{start, items, hx, hy, hz, bucket}, {start2, items2, hx2, hy2, hz2, bucket2}, cur, above, blocked},
+        {{start, items, hx, hy, hz, bucket}, {start2, items2, hx2, hy2, hz2, bucket2}, link, blocked},
         linear_scan_max);
     if (result) *result = r;
     return entry_group;
