@@ -9,12 +9,12 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <thread>
 
 #include "cli/commands.h"
 #include "runtime/lib/bench_report.h"
+#include "systems/io/json_file.h"
 #include "systems/io/output_file.h"
 
 extern char** environ;
@@ -88,10 +88,10 @@ int run_process(const std::vector<std::string>& args, const std::string& log) {
 }
 
 nlohmann::json read_json(const std::string& path) {
-    std::ifstream in(path);
-    nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-    if (j.is_discarded()) throw std::runtime_error(fmt::format("'{}' is not valid JSON", path));
-    return j;
+    io::JsonFile file = io::read_json_file(path);
+    if (file.status != io::JsonFileStatus::kOk)
+        throw std::runtime_error(fmt::format("'{}' is not valid JSON", path));
+    return std::move(file.doc);
 }
 
 int bench(const BenchOptions& o) {

@@ -2,12 +2,11 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "jobs/mesh_hash.h"
 #include "systems/io/file_format_error.h"
+#include "systems/io/json_file.h"
 #include "systems/io/output_file.h"
 #include "systems/scan/scan_settings_json.h"
 #include "systems/scenes/scene_json.h"
@@ -68,13 +67,12 @@ void write_recording(const std::string& path, const Recording& r) {
 }
 
 Recording read_recording(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw RecordingError("cannot open recording '" + path + "'");
-    std::ostringstream text;
-    text << in.rdbuf();
+    io::JsonFile file = io::read_json_file(path);
+    if (file.status == io::JsonFileStatus::kCannotOpen)
+        throw RecordingError("cannot open recording '" + path + "'");
     const std::string where = "recording '" + path + "'";
-    json doc = json::parse(text.str(), nullptr, false);
-    if (doc.is_discarded() || !doc.is_object())
+    json& doc = file.doc;
+    if (file.status == io::JsonFileStatus::kInvalid || !doc.is_object())
         throw RecordingError(where +
                              " is not a Rivulet recording, or is truncated (not one valid JSON object)");
     if (doc.value("format", json()) != kRecordingFormat)

@@ -1,10 +1,9 @@
 #include "systems/scenes/scene_json.h"
 
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "systems/io/json_fields.h"
+#include "systems/io/json_file.h"
 
 namespace rivulet {
 
@@ -107,13 +106,12 @@ json scene_to_json(const SceneDesc& scene) {
 }
 
 SceneDesc load_scene_file(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot open scene file '" + path + "'");
-    std::ostringstream text;
-    text << in.rdbuf();
-    json doc = json::parse(text.str(), nullptr, false);
-    if (doc.is_discarded()) throw std::runtime_error("scene file '" + path + "' is not valid JSON");
-    return scene_from_json(doc, path);
+    const io::JsonFile file = io::read_json_file(path);
+    if (file.status == io::JsonFileStatus::kCannotOpen)
+        throw std::runtime_error("cannot open scene file '" + path + "'");
+    if (file.status == io::JsonFileStatus::kInvalid)
+        throw std::runtime_error("scene file '" + path + "' is not valid JSON");
+    return scene_from_json(file.doc, path);
 }
 
 SceneDesc resolve_scene(const std::string& name_or_path) {
