@@ -16,8 +16,8 @@
 //     cylinder pool of 150 is never the limit); beyond 64 000 particles the 64 streams get denser slices
 //     (128 000: ~27 per slice). Particles are dealt to streams and slices round-robin, so P is exact.
 //     --streams N puts the P particles in N streams instead (N = 1: one stream, denser as P grows).
-// Columns sum the jobs by name: bin_sort = bin_sort.*, grouping = grouping.* + grouping (hash,
-// neighbour search, rules), isolated+stage; a per-job table follows.
+// Columns sum the jobs by name: bin_sort = bin_sort.*, grouping = grouping.* + grouping (neighbour
+// search, rules and group lists), isolated+stage; a per-job table follows.
 // Radius 0.02 (the ScanSettings default), U = 20, V = 120 as in Table 1; v_top / v_bottom half a radius
 // beyond the stream's extent, as `rivulet mesh` does.
 #include <algorithm>
