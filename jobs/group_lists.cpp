@@ -1,32 +1,50 @@
 #include "jobs/group_lists.h"
 
+#include <atomic>
+
 namespace rivulet {
 
-void build_group_lists(BinTableView bins, std::span<const std::int32_t> entry_group, std::uint32_t groups,
-                       const GroupListsOut& out) {
-    for (std::uint32_t g = 0; g <= groups; ++g) out.offsets[g] = 0;
-    for (auto& f : out.grouped) f = 0;
-    for (std::int32_t g : entry_group)
-        if (g >= 0) ++out.offsets[g + 1];
-    for (std::uint32_t g = 0; g < groups; ++g) {
-        out.offsets[g + 1] += out.offsets[g];
-        out.cursor[g] = out.offsets[g];
+std::uint32_t count_group_entries(BinTableView bins, std::uint32_t first_bin, std::uint32_t end_bin,
+                                  std::span<const std::int32_t> entry_group,
+                                  std::span<std::uint32_t> counts) {
+    for (auto& c : counts) c = 0;
+    std::uint32_t isolated = 0;
+    for (std::uint32_t e = bins.offsets[first_bin]; e < bins.offsets[end_bin]; ++e) {
+        const std::int32_t g = entry_group[e];
+        if (g < 0)
+            ++isolated;
+        else
+            ++counts[static_cast<std::uint32_t>(g)];
     }
-    const std::uint32_t nbins = static_cast<std::uint32_t>(bins.offsets.size()) - 1;
-    for (std::uint32_t b = 0; b < nbins; ++b) {
+    return isolated;
+}
+
+void group_list_offsets(std::uint32_t groups, std::uint32_t chunks, std::span<const std::uint32_t> counts,
+                        std::span<std::uint32_t> cursors, std::span<std::uint32_t> offsets) {
+    std::uint32_t running = 0;
+    for (std::uint32_t g = 0; g < groups; ++g) {
+        offsets[g] = running;
+        for (std::uint32_t c = 0; c < chunks; ++c) {
+            cursors[std::size_t(c) * groups + g] = running;
+            running += counts[std::size_t(c) * groups + g];
+        }
+    }
+    offsets[groups] = running;
+}
+
+void scatter_group_entries(BinTableView bins, std::uint32_t first_bin, std::uint32_t end_bin,
+                           std::span<const std::int32_t> entry_group, std::span<std::uint32_t> cursors,
+                           const GroupListsOut& out) {
+    for (std::uint32_t b = first_bin; b < end_bin; ++b) {
         for (std::uint32_t e = bins.offsets[b]; e < bins.offsets[b + 1]; ++e) {
             const std::int32_t g = entry_group[e];
             if (g < 0) continue;
-            const std::uint32_t slot = out.cursor[g]++;
+            const std::uint32_t slot = cursors[static_cast<std::uint32_t>(g)]++;
+            const std::uint32_t particle = bins.entries[e];
             out.bin[slot] = b;
-            out.particle[slot] = bins.entries[e];
-            out.grouped[bins.entries[e]] = 1;
+            out.particle[slot] = particle;
+            std::atomic_ref<std::uint8_t>(out.grouped[particle]).store(1, std::memory_order_relaxed);
         }
-    }
-    for (std::uint32_t g = 0; g < groups; ++g) {
-        // Every group has at least two members, so its list is never empty.
-        out.vmin[g] = out.bin[out.offsets[g]];
-        out.vmax[g] = out.bin[out.offsets[g + 1] - 1];
     }
 }
 

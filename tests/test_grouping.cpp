@@ -96,7 +96,8 @@ namespace {
 
 // The pseudocode over bin entries with this implementation's stated decisions, scanning linearly.
 std::vector<std::int32_t> reference_grouping(const Cloud& c, const Bins& bins, float eps,
-                                             std::uint32_t max_groups) {
+                                             std::uint32_t max_groups, std::uint32_t& pool_exhausted) {
+    pool_exhausted = 0;
     std::vector<std::int32_t> g(bins.entries.size(), -1);
     std::vector<std::int64_t> blocked(max_groups, -1);
     std::int32_t groups = 0;
@@ -105,7 +106,10 @@ std::vector<std::int32_t> reference_grouping(const Cloud& c, const Bins& bins, f
         return dx * dx + dy * dy + dz * dz < eps * eps;
     };
     auto make = [&](std::size_t pk_entry, std::int64_t bin) -> std::int32_t {
-        if (groups >= static_cast<std::int32_t>(max_groups)) return -1;
+        if (groups >= static_cast<std::int32_t>(max_groups)) {
+            ++pool_exhausted;
+            return -1;
+        }
         g[pk_entry] = groups;
         blocked[groups] = bin;
         return groups++;
@@ -155,36 +159,104 @@ TEST(Grouping, HashedAndBlockedSearchesMatchTheLinearPseudocode) {
         const BinGrid grid{2.0f, 0.1f, 21, 0.03f};
         const Bins bins = rivulet::test::bin_sort(grid, c);
         const std::uint32_t max_groups = trial % 2 ? 150 : 12;  // also when the pool runs out
-        const auto want = reference_grouping(c, bins, 0.1f, max_groups);
+        std::uint32_t want_exhausted = 0;
+        const auto want = reference_grouping(c, bins, 0.1f, max_groups, want_exhausted);
+        if (max_groups == 12) {
+            EXPECT_GT(want_exhausted, 0u) << "trial " << trial << " should run the pool out";
+        }
         // Every bin through the hash, every bin through the blocked linear scan, and the default mix.
         for (std::uint32_t linear_scan_max : {0u, 1u << 30, kDefaultLinearScanMax}) {
-            const auto got = rivulet::test::group(c, bins, 0.1f, max_groups, nullptr, linear_scan_max);
+            GroupingResult r;
+            const auto got = rivulet::test::group(c, bins, 0.1f, max_groups, &r, linear_scan_max);
             ASSERT_EQ(got, want) << "trial " << trial << ", linear scan up to " << linear_scan_max;
+            EXPECT_EQ(r.pool_exhausted, want_exhausted) << "trial " << trial;
         }
     }
 }
+
+namespace {
+
+struct Lists {
+    std::vector<std::uint32_t> offsets, bin, particle;
+    std::vector<std::uint8_t> grouped;
+};
+
+// The group lists built in chunks of `chunk_bins` bins, as the frame graph runs them.
+Lists group_lists_in_chunks(const Bins& bins, const std::vector<std::int32_t>& eg, std::uint32_t groups,
+                            std::size_t particles, std::uint32_t chunk_bins) {
+    const auto nbins = static_cast<std::uint32_t>(bins.offsets.size() - 1);
+    const std::uint32_t chunks = (nbins + chunk_bins - 1) / chunk_bins;
+    std::vector<std::uint32_t> counts(std::size_t(chunks) * groups), cursors(counts.size());
+    for (std::uint32_t c = 0; c < chunks; ++c)
+        count_group_entries(bins.view(), c * chunk_bins, std::min(nbins, (c + 1) * chunk_bins), eg,
+                            std::span(counts).subspan(std::size_t(c) * groups, groups));
+    Lists l{std::vector<std::uint32_t>(groups + 1), std::vector<std::uint32_t>(eg.size()),
+            std::vector<std::uint32_t>(eg.size()), std::vector<std::uint8_t>(particles)};
+    group_list_offsets(groups, chunks, counts, cursors, l.offsets);
+    for (std::uint32_t c = chunks; c-- > 0;)  // any order: each chunk has its own cursors
+        scatter_group_entries(bins.view(), c * chunk_bins, std::min(nbins, (c + 1) * chunk_bins), eg,
+                              std::span(cursors).subspan(std::size_t(c) * groups, groups),
+                              {l.bin, l.particle, l.grouped});
+    return l;
+}
+
+}  // namespace
 
 TEST(Grouping, GroupListsHoldEachGroupsEntriesInRingOrder) {
     const Cloud c = figure4(true);
     const Bins bins = rivulet::test::bin_sort(kFigureGrid, c);
     GroupingResult r;
-    const auto eg = rivulet::test::group(c, bins, kFigureEps, 150, &r);
+    std::vector<std::uint32_t> vmin, vmax;
+    const auto eg = rivulet::test::group(c, bins, kFigureEps, 150, &r, kDefaultLinearScanMax, &vmin, &vmax);
     const auto g = rivulet::test::particle_groups(bins, eg, c.size());
-    std::vector<std::uint32_t> off(r.groups + 1), bin(bins.entries.size()), part(bins.entries.size()),
-        vmin(r.groups), vmax(r.groups), cur(r.groups);
-    std::vector<std::uint8_t> grouped(c.size());
-    build_group_lists(bins.view(), eg, r.groups, {off, bin, part, vmin, vmax, cur, grouped});
-    for (std::uint8_t f : grouped) EXPECT_EQ(f, 1);
-    EXPECT_EQ(off.back(), 6u);
+    const Lists l = group_lists_in_chunks(bins, eg, r.groups, c.size(), 1);
+    for (std::uint8_t f : l.grouped) EXPECT_EQ(f, 1);
+    EXPECT_EQ(l.offsets.back(), 6u);
     for (std::uint32_t grp = 0; grp < r.groups; ++grp) {
-        for (std::uint32_t e = off[grp]; e < off[grp + 1]; ++e) {
-            EXPECT_EQ(g[part[e]], static_cast<std::int32_t>(grp));
-            if (e > off[grp]) {
-                EXPECT_LE(bin[e - 1], bin[e]);
+        for (std::uint32_t e = l.offsets[grp]; e < l.offsets[grp + 1]; ++e) {
+            EXPECT_EQ(g[l.particle[e]], static_cast<std::int32_t>(grp));
+            if (e > l.offsets[grp]) {
+                EXPECT_LE(l.bin[e - 1], l.bin[e]);
             }
         }
     }
     EXPECT_EQ(vmin[static_cast<std::size_t>(g[A])], 0u);
     EXPECT_EQ(vmax[static_cast<std::size_t>(g[A])], 1u);
     EXPECT_EQ(vmin[static_cast<std::size_t>(g[E])], 1u);
+}
+
+TEST(Grouping, ChunkedListsAndRingRangesAgreeOnRandomStreams) {
+    std::mt19937 rng(5);
+    std::normal_distribution<float> jitter(0.0f, 0.05f);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    Cloud c;
+    for (int s = 0; s < 6; ++s) {
+        const float cx = unit(rng) * 2 - 1, cz = unit(rng) * 2 - 1;
+        for (int i = 0; i < 400; ++i) c.add(cx + jitter(rng), unit(rng) * 2.0f, cz + jitter(rng));
+    }
+    const BinGrid grid{2.0f, 0.1f, 21, 0.03f};
+    const Bins bins = rivulet::test::bin_sort(grid, c);
+    GroupingResult r;
+    std::vector<std::uint32_t> vmin, vmax;
+    const auto eg = rivulet::test::group(c, bins, 0.1f, 150, &r, kDefaultLinearScanMax, &vmin, &vmax);
+    ASSERT_GT(r.groups, 3u);
+    const Lists whole = group_lists_in_chunks(bins, eg, r.groups, c.size(), 1000);
+    for (std::uint32_t chunk_bins : {1u, 2u, 5u}) {
+        const Lists split = group_lists_in_chunks(bins, eg, r.groups, c.size(), chunk_bins);
+        EXPECT_EQ(split.offsets, whole.offsets) << chunk_bins;
+        EXPECT_EQ(split.bin, whole.bin) << chunk_bins;
+        EXPECT_EQ(split.particle, whole.particle) << chunk_bins;
+        EXPECT_EQ(split.grouped, whole.grouped) << chunk_bins;
+    }
+    // The ring range the rules recorded is the first and last ring of the group's list, and every ring
+    // in between holds at least one of its entries (a cylinder has no empty cross-section).
+    for (std::uint32_t grp = 0; grp < r.groups; ++grp) {
+        ASSERT_LT(whole.offsets[grp], whole.offsets[grp + 1]) << "group " << grp;
+        EXPECT_EQ(vmin[grp], whole.bin[whole.offsets[grp]]) << "group " << grp;
+        EXPECT_EQ(vmax[grp], whole.bin[whole.offsets[grp + 1] - 1]) << "group " << grp;
+        for (std::uint32_t e = whole.offsets[grp] + 1; e < whole.offsets[grp + 1]; ++e)
+            EXPECT_LE(whole.bin[e] - whole.bin[e - 1], 1u) << "group " << grp << " skips a ring";
+    }
+    // isolated_entries counts what the lists left out.
+    EXPECT_EQ(r.isolated_entries, eg.size() - whole.offsets.back());
 }

@@ -22,14 +22,21 @@ ScanJobIds add_scan_jobs(FrameGraph& g, ScanConverter& scan, std::function<Const
         "grouping.neighbours", [&s] { return std::size_t(s.bins_count()); },
         [&s](std::size_t b) { s.bin_neighbours(static_cast<std::uint32_t>(b)); }, {id.bin_scatter});
     id.grouping = g.serial("grouping", [&s] { s.group(); }, {id.bin_neighbours});
+    const auto spread = g.parallel(
+        "grouping.spread", [&s] { return std::size_t(s.bin_chunks()); },
+        [&s](std::size_t c) { s.spread(static_cast<std::uint32_t>(c)); }, {id.grouping});
+    const auto offsets = g.serial("grouping.offsets", [&s] { s.list_offsets(); }, {spread});
+    id.group_lists = g.parallel(
+        "grouping.lists", [&s] { return std::size_t(s.bin_chunks()); },
+        [&s](std::size_t c) { s.lists(static_cast<std::uint32_t>(c)); }, {offsets});
     id.deform = g.parallel(
         "deform", [&s] { return std::size_t(s.pieces()); },
         [&s, pos, out](std::size_t i) { s.deform(pos(), static_cast<std::uint32_t>(i), out()); },
-        {id.grouping});
+        {id.group_lists});
     id.normals = g.parallel(
         "normals", [&s] { return std::size_t(s.pieces()); },
         [&s, out](std::size_t i) { s.normals(static_cast<std::uint32_t>(i), out()); }, {id.deform});
-    id.isolated = g.serial("isolated", [&s, pos, out] { s.isolated(pos(), out()); }, {id.grouping});
+    id.isolated = g.serial("isolated", [&s, pos, out] { s.isolated(pos(), out()); }, {id.group_lists});
     id.stage = g.serial("stage", [&s, out] { s.stage(out()); }, {id.normals, id.isolated});
     return id;
 }

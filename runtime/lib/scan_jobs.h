@@ -10,8 +10,8 @@
 namespace rivulet {
 
 struct ScanJobIds {
-    FrameGraph::JobId bin_count, bin_prefix, bin_scatter, bin_neighbours, grouping, deform, normals, isolated,
-        stage;
+    FrameGraph::JobId bin_count, bin_prefix, bin_scatter, bin_neighbours, grouping, group_lists, deform,
+        normals, isolated, stage;
 };
 
 // `positions` and `output` are asked when each job runs, so they may change between frames (slots).

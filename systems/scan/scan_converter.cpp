@@ -48,11 +48,14 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     blocked_bin_.reserve(settings.max_groups);
     own_hashes_.reserve(entry_capacity_, grid_.bins);
     above_hashes_.reserve(entry_capacity_, grid_.bins);
-    link_.reserve(entry_capacity_);
+    link_.reserve(entry_capacity_), root_.reserve(entry_capacity_), tree_size_.reserve(entry_capacity_),
+        events_.reserve(entry_capacity_), event_count_.reserve(grid_.bins);
     list_offsets_.reserve(settings.max_groups + 1);
     list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
-    vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups),
-        list_cursor_.reserve(settings.max_groups);
+    vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups);
+    chunk_group_counts_.reserve(std::size_t(bin_chunks()) * settings.max_groups);
+    chunk_group_cursors_.reserve(std::size_t(bin_chunks()) * settings.max_groups);
+    chunk_isolated_.reserve(bin_chunks());
     circle_cx_.reserve(entry_capacity_), circle_cz_.reserve(entry_capacity_),
         circle_rho_.reserve(entry_capacity_);
     const std::size_t max_pieces =
@@ -124,20 +127,55 @@ BinHashes ScanConverter::HashTables::view(std::size_t entries) {
 }
 
 void ScanConverter::bin_neighbours(std::uint32_t bin) {
-    find_bin_neighbours(bins(), bin, settings_.grouping_distance(), own_hashes_.view(entries_),
+    const BinTableView table = bins();
+    find_bin_neighbours(table, bin, settings_.grouping_distance(), own_hashes_.view(entries_),
                         above_hashes_.view(entries_), link_.span(entries_));
+    event_count_[bin] =
+        collect_group_events(table, bin, link_.span(entries_), forest(), events_.span(entries_));
+}
+
+LinkForest ScanConverter::forest() {
+    return {root_.span(entries_), tree_size_.span(entries_)};
 }
 
 void ScanConverter::group() {
+    grouping_ = assign_groups(bins(), link_.span(entries_), forest(),
+                              {events_.span(entries_), event_count_.span(grid_.bins)}, settings_.max_groups,
+                              entry_group_.span(entries_),
+                              {vmin_.span(settings_.max_groups), vmax_.span(settings_.max_groups),
+                               blocked_bin_.span(settings_.max_groups)});
+}
+
+std::span<std::uint32_t> ScanConverter::chunk_span(AlignedArray<std::uint32_t>& a, std::uint32_t bin_chunk) {
+    return a.span(std::size_t(bin_chunks()) * grouping_.groups)
+        .subspan(std::size_t(bin_chunk) * grouping_.groups, grouping_.groups);
+}
+
+void ScanConverter::spread(std::uint32_t bin_chunk) {
     const BinTableView table = bins();
-    grouping_ = assign_groups(table, link_.span(entries_), settings_.max_groups, entry_group_.span(entries_),
-                              blocked_bin_.span(settings_.max_groups));
-    build_group_lists(
-        table, entry_group_.span(entries_), grouping_.groups,
-        {list_offsets_.span(grouping_.groups + 1), list_bin_.span(entries_), list_particle_.span(entries_),
-         vmin_.span(grouping_.groups), vmax_.span(grouping_.groups), list_cursor_.span(grouping_.groups),
-         grouped_.span(particles_)});
+    const std::uint32_t first = bin_chunk * kBinsPerChunk, end = std::min(first + kBinsPerChunk, grid_.bins);
+    for (std::uint32_t b = first; b < end; ++b)
+        spread_groups(table, b, forest(), entry_group_.span(entries_));
+    chunk_isolated_[bin_chunk] = count_group_entries(table, first, end, entry_group_.span(entries_),
+                                                     chunk_span(chunk_group_counts_, bin_chunk));
+}
+
+void ScanConverter::list_offsets() {
+    const std::uint32_t groups = grouping_.groups, chunks = bin_chunks();
+    group_list_offsets(groups, chunks, chunk_group_counts_.span(std::size_t(chunks) * groups),
+                       chunk_group_cursors_.span(std::size_t(chunks) * groups),
+                       list_offsets_.span(groups + 1));
+    grouping_.isolated_entries = 0;
+    for (std::uint32_t c = 0; c < chunks; ++c) grouping_.isolated_entries += chunk_isolated_[c];
+    for (auto& f : grouped_.span(particles_)) f = 0;
     split_into_pieces();
+}
+
+void ScanConverter::lists(std::uint32_t bin_chunk) {
+    const std::uint32_t first = bin_chunk * kBinsPerChunk, end = std::min(first + kBinsPerChunk, grid_.bins);
+    scatter_group_entries(
+        bins(), first, end, entry_group_.span(entries_), chunk_span(chunk_group_cursors_, bin_chunk),
+        {list_bin_.span(entries_), list_particle_.span(entries_), grouped_.span(particles_)});
 }
 
 void ScanConverter::split_into_pieces() {
@@ -201,6 +239,9 @@ void ScanConverter::extract_serial(ConstPositions p, ScanOutput& out) {
     for (std::uint32_t c = 0; c < chunks_; ++c) bin_scatter(p, c);
     for (std::uint32_t b = 0; b < grid_.bins; ++b) bin_neighbours(b);
     group();
+    for (std::uint32_t c = 0; c < bin_chunks(); ++c) spread(c);
+    list_offsets();
+    for (std::uint32_t c = 0; c < bin_chunks(); ++c) lists(c);
     for (std::uint32_t i = 0; i < pieces(); ++i) deform(p, i, out);
     for (std::uint32_t i = 0; i < pieces(); ++i) normals(i, out);
     isolated(p, out);

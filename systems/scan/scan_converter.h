@@ -1,17 +1,15 @@
 #pragma once
 // Sphere scan conversion as a system (seed 000 §2): owns the persistent buffers (bins, group lists,
 // circle scratch, angle tables) sized once for a particle capacity, and exposes the per-frame jobs the
-// frame graph schedules, in this order:
+// frame graph schedules, in this order (* = independent items, run in parallel):
 //
-//   bin_count(chunk)*  -> bin_prefix -> bin_scatter(chunk)*      hash sort into V bins  (jobs/bin_sort.h)
-//   -> group                                                      grouping + group lists (jobs/grouping.h,
-//   group_lists.h)
-//   -> deform(piece)*  -> normals(piece)*                         per cylinder piece (jobs/deform_cylinder.h,
-//   cylinder_normals.h)
-//   -> isolated (beside deform)                                   sphere instances
-//   (jobs/isolated_particles.h)
-//   -> stage                                                      draw list, counters
-//   (* = independent items, run in parallel)
+//   bin_count(chunk)* -> bin_prefix -> bin_scatter(chunk)*       hash sort into V bins (jobs/bin_sort.h)
+//   -> bin_neighbours(bin)* -> group -> spread(bin chunk)*       grouping (jobs/bin_neighbours.h,
+//   -> list_offsets -> lists(bin chunk)*                         grouping.h, group_lists.h)
+//   -> deform(piece)* -> normals(piece)*                         per cylinder piece (jobs/deform_cylinder.h,
+//                                                                cylinder_normals.h)
+//   -> isolated (beside deform)                                  sphere instances (jobs/isolated_particles.h)
+//   -> stage                                                     draw list, counters
 //
 // extract_serial() runs the same jobs in order on the calling thread.
 #include <cstdint>
@@ -33,6 +31,8 @@ class ScanConverter {
     // Rings per piece: deformation and normals run per piece of a cylinder, not per cylinder, so one
     // long stream still spreads over every worker and pieces of unequal groups balance.
     static constexpr std::uint32_t kRingsPerPiece = 16;
+    // Bins per chunk of the grouping's parallel passes over the bin table (spread, lists).
+    static constexpr std::uint32_t kBinsPerChunk = 8;
 
     // Throws std::invalid_argument when settings.validate() fails.
     ScanConverter(const ScanSettings& settings, std::size_t max_particles);
@@ -51,9 +51,13 @@ class ScanConverter {
     void bin_prefix();
     void bin_scatter(ConstPositions p, std::uint32_t chunk);
     std::uint32_t bins_count() const { return grid_.bins; }
-    void bin_neighbours(std::uint32_t bin);
-    void group();
+    void bin_neighbours(std::uint32_t bin);  // neighbour links and the bin's grouping events
+    void group();                            // the seed's rules over the events (serial)
     std::uint32_t groups() const { return grouping_.groups; }
+    std::uint32_t bin_chunks() const { return (grid_.bins + kBinsPerChunk - 1) / kBinsPerChunk; }
+    void spread(std::uint32_t bin_chunk);  // every entry's group, and the chunk's counts per group
+    void list_offsets();                   // group list offsets, isolated count, cylinder pieces
+    void lists(std::uint32_t bin_chunk);   // the chunk's entries into the group lists
     // Pieces of this frame's cylinders (set by group()): piece i is rings [first, last] of one group.
     std::uint32_t pieces() const { return pieces_; }
     void deform(ConstPositions p, std::uint32_t piece, ScanOutput& out);
@@ -90,7 +94,7 @@ class ScanConverter {
     AlignedArray<std::uint8_t> grouped_;
     AlignedArray<std::uint32_t> particle_first_bin_, particle_end_bin_;
     ParticleBins particle_bins(std::size_t begin, std::size_t n);
-    AlignedArray<std::uint32_t> blocked_bin_, link_;
+    AlignedArray<std::uint32_t> blocked_bin_, link_, root_, tree_size_, events_, event_count_;
     // Storage of one set of per-bin hash tables (jobs/bin_neighbours.h); the neighbour jobs need two.
     struct HashTables {
         AlignedArray<std::uint32_t> start, items, bucket;
@@ -99,7 +103,10 @@ class ScanConverter {
         BinHashes view(std::size_t entries);
     };
     HashTables own_hashes_, above_hashes_;
-    AlignedArray<std::uint32_t> list_offsets_, list_bin_, list_particle_, vmin_, vmax_, list_cursor_;
+    AlignedArray<std::uint32_t> list_offsets_, list_bin_, list_particle_, vmin_, vmax_;
+    AlignedArray<std::uint32_t> chunk_group_counts_, chunk_group_cursors_, chunk_isolated_;
+    std::span<std::uint32_t> chunk_span(AlignedArray<std::uint32_t>& a, std::uint32_t bin_chunk);
+    LinkForest forest();
     AlignedArray<float> circle_cx_, circle_cz_, circle_rho_;
     std::uint32_t pieces_ = 0;
     AlignedArray<std::uint32_t> piece_group_, piece_first_;

@@ -14,18 +14,27 @@ Bins bin_sort(const BinGrid& grid, const Cloud& c) {
 }
 
 std::vector<std::int32_t> group(const Cloud&, const Bins& bins, float eps, std::uint32_t max_groups,
-                                GroupingResult* result, std::uint32_t linear_scan_max) {
+                                GroupingResult* result, std::uint32_t linear_scan_max,
+                                std::vector<std::uint32_t>* vmin_out, std::vector<std::uint32_t>* vmax_out) {
     const std::size_t n = bins.entries.size();
     const std::size_t table = bin_hash_start_capacity(n, bins.offsets.size() - 1);
     std::vector<std::uint32_t> start(table), items(n), bucket(n), start2(table), items2(n), bucket2(n),
-        link(n), blocked(max_groups);
+        link(n), root(n), tree_size(n), events(n), event_count(bins.offsets.size() - 1), vmin(max_groups),
+        vmax(max_groups), blocked(max_groups);
     std::vector<float> hx(n), hy(n), hz(n), hx2(n), hy2(n), hz2(n);
     std::vector<std::int32_t> entry_group(n);
-    const GroupingResult r = group_entries(
-        bins.view(), eps, max_groups, entry_group,
-        {{start, items, hx, hy, hz, bucket}, {start2, items2, hx2, hy2, hz2, bucket2}, link, blocked},
-        linear_scan_max);
+    const GroupingResult r = group_entries(bins.view(), eps, max_groups, entry_group,
+                                           {{start, items, hx, hy, hz, bucket},
+                                            {start2, items2, hx2, hy2, hz2, bucket2},
+                                            link,
+                                            {root, tree_size},
+                                            events,
+                                            event_count,
+                                            {vmin, vmax, blocked}},
+                                           linear_scan_max);
     if (result) *result = r;
+    if (vmin_out) *vmin_out = std::vector<std::uint32_t>(vmin.begin(), vmin.begin() + r.groups);
+    if (vmax_out) *vmax_out = std::vector<std::uint32_t>(vmax.begin(), vmax.begin() + r.groups);
     return entry_group;
 }
 

@@ -25,10 +25,13 @@ struct Bins {
 // Single-chunk bin sort.
 Bins bin_sort(const BinGrid& grid, const Cloud& c);
 
-// Runs group_entries with scratch sized for this input; returns the group of every bin entry.
+// Runs group_entries with scratch sized for this input; returns the group of every bin entry, and when
+// asked each group's ring range as assign_groups found it.
 std::vector<std::int32_t> group(const Cloud& c, const Bins& bins, float eps, std::uint32_t max_groups,
                                 GroupingResult* result = nullptr,
-                                std::uint32_t linear_scan_max = kDefaultLinearScanMax);
+                                std::uint32_t linear_scan_max = kDefaultLinearScanMax,
+                                std::vector<std::uint32_t>* vmin = nullptr,
+                                std::vector<std::uint32_t>* vmax = nullptr);
 
 // Per particle: the group of its first grouped entry, or kIsolated.
 std::vector<std::int32_t> particle_groups(const Bins& bins, const std::vector<std::int32_t>& entry_group,
