@@ -1,9 +1,10 @@
 // Microbenchmarks of the per-frame jobs, each run serially on the calling thread (no TBB):
 //   BM_BinSort          begin_frame + bin_count (all chunks) + bin_prefix + bin_scatter (all chunks)
-//   BM_Grouping         all grouping jobs: bin_neighbours (every bin) + group (rules, lists);
-//                       BM_GroupingNeighbours / BM_GroupingRules time each phase alone
-//   BM_DeformAll        ScanConverter::deform of every group
-//   BM_NormalsAll       ScanConverter::normals of every group
+//   BM_Grouping         all grouping jobs: bin_neighbours (every bin) + group (rules) + spread, list_offsets
+//                       and lists (every bin chunk); BM_GroupingNeighbours / BM_GroupingRules /
+//                       BM_GroupingLists time each phase alone
+//   BM_DeformAll        ScanConverter::deform of every cylinder piece
+//   BM_NormalsAll       ScanConverter::normals of every cylinder piece
 //   BM_CircleMaximaSmooth / BM_GaussianBlend   one ring (U = 20) of 10 circles (jobs/cross_section.h)
 //   BM_FountainFrame    StreamSimulation::step_serial, one frame of the fountain scene in steady state
 // The scan jobs use the 8,000-particle falling stream of bench_scan_table.cpp (same generator, copied
@@ -55,6 +56,12 @@ struct ScanFixture {
     void group_all() {
         for (std::uint32_t b = 0; b < scan.bins_count(); ++b) scan.bin_neighbours(b);
         scan.group();
+        group_lists();
+    }
+    void group_lists() {
+        for (std::uint32_t c = 0; c < scan.bin_chunks(); ++c) scan.spread(c);
+        scan.list_offsets();
+        for (std::uint32_t c = 0; c < scan.bin_chunks(); ++c) scan.lists(c);
     }
     static ScanFixture& get() {
         static ScanFixture f;
@@ -94,7 +101,8 @@ void BM_Grouping(benchmark::State& state) {
 }
 BENCHMARK(BM_Grouping)->Unit(benchmark::kMicrosecond);
 
-// The grouping phases alone: per-bin neighbour search (lazy hashes included), serial rules + group lists.
+// The grouping phases alone: per-bin neighbour search (lazy hashes and events included), the serial
+// rules over the events, and spreading groups + building the group lists.
 void BM_GroupingNeighbours(benchmark::State& state) {
     auto& f = ScanFixture::get();
     for (auto _ : state) {
@@ -114,6 +122,16 @@ void BM_GroupingRules(benchmark::State& state) {
     counters(state, f);
 }
 BENCHMARK(BM_GroupingRules)->Unit(benchmark::kMicrosecond);
+
+void BM_GroupingLists(benchmark::State& state) {
+    auto& f = ScanFixture::get();
+    for (auto _ : state) {
+        f.group_lists();
+        benchmark::ClobberMemory();
+    }
+    counters(state, f);
+}
+BENCHMARK(BM_GroupingLists)->Unit(benchmark::kMicrosecond);
 
 void BM_DeformAll(benchmark::State& state) {
     auto& f = ScanFixture::get();
