@@ -29,23 +29,17 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         gen = *s.generation = 1;
     }
 
+    // World z of each slice, for corner and column evaluations (padded: column runs read up to four).
+    std::array<float, kMaxBlockCubes + 4> column_z{};
+    for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
     auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-        const std::int32_t gi = i0 + static_cast<std::int32_t>(i), gj = j0 + static_cast<std::int32_t>(j),
-                           gk = k0 + static_cast<std::int32_t>(k);
-        return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f);
+        return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), column_z[k], f);
     };
-
     // F >= iso at a local corner, from a partial sum where that settles it (the walks and the face scan
     // need only signs).
     auto inside = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-        const std::int32_t gi = i0 + static_cast<std::int32_t>(i), gj = j0 + static_cast<std::int32_t>(j),
-                           gk = k0 + static_cast<std::int32_t>(k);
-        return cache_inside(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f,
-                            iso);
+        return cache_inside(cache, n, i, j, static_cast<std::int32_t>(k), column_z[k], f, iso);
     };
-    // World z of each slice, for column evaluations.
-    std::array<float, kMaxBlockCubes + 1> column_z{};
-    for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
 
     // ---- per-slab todo lists ----
     std::fill(s.todo_count.begin(), s.todo_count.end(), 0u);
@@ -138,9 +132,8 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         }
         for (std::uint32_t t = 0; t <= n; ++t) {
             const std::uint32_t i = a == 0 ? side * n : t, j = a == 0 ? t : side * n;
-            cache_column(cache, n, i, j, 0, static_cast<std::int32_t>(n),
-                         g.cx(i0 + static_cast<std::int32_t>(i)), g.cy(j0 + static_cast<std::int32_t>(j)),
-                         column_z.data(), f, column_f.data());
+            cache_column(cache, n, i, j, 0, static_cast<std::int32_t>(n), column_z.data(), f,
+                         column_f.data());
             // a = 0: u = y (t), w = z; a = 1: u = z, w = x (t).
             for (std::uint32_t k = 0; k <= n; ++k)
                 s.faces[a == 0 ? k * n1 + t : t * n1 + k] = column_f[k] >= iso ? 1.0f : 0.0f;
@@ -212,15 +205,16 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         unsigned mask = 0;
         for (unsigned c = 0; c < 4; ++c) {  // corner c below, c + 4 above
             const std::uint32_t ci = i + (c & 1u), cj = j + ((c >> 1) & 1u), at = cj * n1 + ci;
-            if (lower[at] < 0.0f && upper[at] < 0.0f) {  // both new: one pass over the column
-                float pair[2];
-                cache_column(cache, n, ci, cj, static_cast<std::int32_t>(k), static_cast<std::int32_t>(k + 1),
-                             g.cx(i0 + static_cast<std::int32_t>(ci)),
-                             g.cy(j0 + static_cast<std::int32_t>(cj)), column_z.data() + k, f, pair);
-                lower[at] = pair[0], upper[at] = pair[1];
+            if (lower[at] < 0.0f || upper[at] < 0.0f) {
+                // A run of up to four slices of the column from the first missing one: one pass over the
+                // column's entries, and the cubes above in this column (the sweep's next slabs) mostly
+                // find their corners done. Recomputing a known corner gives the same bits.
+                const std::uint32_t from = lower[at] < 0.0f ? k : k + 1, to = std::min(from + 3, n);
+                float run[4];
+                cache_column(cache, n, ci, cj, static_cast<std::int32_t>(from), static_cast<std::int32_t>(to),
+                             column_z.data() + from, f, run);
+                for (std::uint32_t t = from; t <= to; ++t) slice(t)[at] = run[t - from];
             }
-            if (lower[at] < 0.0f) lower[at] = field(ci, cj, k);
-            if (upper[at] < 0.0f) upper[at] = field(ci, cj, k + 1);
             v[c] = lower[at], v[c + 4] = upper[at];
         }
         for (unsigned c = 0; c < 8; ++c)

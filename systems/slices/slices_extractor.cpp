@@ -26,6 +26,7 @@ void ensure(AlignedArray<T>& a, std::size_t n) {
 struct SlicesExtractor::Scratch {
     AlignedArray<std::uint32_t> order, sort_counts, column_offsets;
     AlignedArray<ColumnEntry> entries;
+    AlignedArray<std::uint16_t> rows;
     AlignedArray<float> slices, faces;
     AlignedArray<std::int32_t> slice_slot, free_slots, walk_lo, walk_hi;
     AlignedArray<std::uint32_t> cube_stamp, edge_stamp, edge_vertex, todo, todo_count;
@@ -219,8 +220,10 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
 
     // Lookup cache (grown and rebuilt if this block lists more column entries than ever before).
     ensure(s.order, np);
+    ensure(s.rows, std::size_t(np) * lookup_row_slots(grid_));
     const std::size_t cols = std::size_t(grid_.n + 1) * (grid_.n + 1);
-    const LookupScratch ls{s.order.span(np), s.sort_counts.span(lookup_sort_slots(grid_))};
+    const LookupScratch ls{s.order.span(np), s.sort_counts.span(lookup_sort_slots(grid_)),
+                           s.rows.span(std::size_t(np) * lookup_row_slots(grid_))};
     std::uint32_t need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(cols + 1),
                                             s.entries.span(s.entries.capacity()));
     if (need > s.entries.capacity()) {
@@ -228,7 +231,7 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
         need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(cols + 1),
                                   s.entries.span(s.entries.capacity()));
     }
-    const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach + 1};
+    const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach};
 
     // The sweep (run again with more room in the rare case the block's mesh outgrew its buffers).
     BlockSlot& slot = slots_[item];
