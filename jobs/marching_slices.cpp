@@ -35,10 +35,12 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
         return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), column_z[k], f);
     };
-    // F >= iso at a local corner, from a partial sum where that settles it (the walks and the face scan
-    // need only signs).
-    auto inside = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-        return cache_inside(cache, n, i, j, static_cast<std::int32_t>(k), column_z[k], f, iso);
+    // F at one corner by the branch-free column kernel (a run of one slice).
+    auto corner = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+        float v;
+        cache_column(cache, n, i, j, static_cast<std::int32_t>(k), static_cast<std::int32_t>(k),
+                     column_z.data() + k, f, &v);
+        return v;
     };
 
     // ---- per-slab todo lists ----
@@ -69,11 +71,21 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         std::int32_t& run_hi = s.walk_hi[col];
         if (lk >= run_lo && lk <= run_hi) return true;  // inside a run already walked
         const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
-        if (!inside(ui, uj, static_cast<std::uint32_t>(lk))) return false;
+        // Corner values four slices at a time downwards (one pass over the column's entries each).
+        float run[4];
+        std::int32_t run_top = -1, run_bottom = 0;
+        auto inside_at = [&](std::int32_t k) {
+            if (k > run_top || k < run_bottom) {
+                run_top = k, run_bottom = std::max(0, k - 3);
+                cache_column(cache, n, ui, uj, run_bottom, run_top, column_z.data() + run_bottom, f, run);
+            }
+            return run[k - run_bottom] >= iso;
+        };
+        if (!inside_at(lk)) return false;
         std::int32_t k = lk - 1;
         for (; k >= 0; --k) {
             if (k >= run_lo && k <= run_hi) break;
-            if (!inside(ui, uj, static_cast<std::uint32_t>(k))) break;
+            if (!inside_at(k)) break;
         }
         if (k >= 0 && k >= run_lo && k <= run_hi) {  // joined the known run: same crossing below
             run_hi = std::max(run_hi, lk);
@@ -120,14 +132,13 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
 
     // ---- seeds 2: every block face the surface can cross ----
     // s.faces[w * n1 + u] = 1 where F >= iso on face (a, side), else 0; u and w are the next two axes
-    // after a. The x and y faces are made of whole z columns, evaluated a column at a time; on the z faces
-    // only the sign matters, so each corner's sum stops as soon as it reaches iso.
+    // after a. The x and y faces are made of whole z columns, evaluated a column at a time.
     std::array<float, kMaxBlockCubes + 1> column_f{};
     auto fill_face = [&](std::uint32_t a, std::uint32_t side) {
         if (a == 2) {
             for (std::uint32_t j = 0; j <= n; ++j)
                 for (std::uint32_t i = 0; i <= n; ++i)
-                    s.faces[j * n1 + i] = inside(i, j, side * n) ? 1.0f : 0.0f;
+                    s.faces[j * n1 + i] = corner(i, j, side * n) >= iso ? 1.0f : 0.0f;
             return;
         }
         for (std::uint32_t t = 0; t <= n; ++t) {
