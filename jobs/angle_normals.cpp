@@ -91,17 +91,19 @@ void accumulate_angle_normals(std::span<const float> p, std::span<const std::uin
     std::size_t t = 0;
     for (; t + 4 <= count; t += 4) {
         const std::uint32_t* v = tri.data() + t * 3;  // v[3 l + a]: corner a of lane l
-        f4 q[3][3]{};                                 // q[a][c]: coordinate c of corner a
-        for (int a = 0; a < 3; ++a)
-            for (int c = 0; c < 3; ++c)
-                for (int l = 0; l < 4; ++l) q[a][c][l] = p[std::size_t(v[3 * l + a]) * 3 + std::size_t(c)];
+        auto gather = [&](int a, std::size_t c) {     // coordinate c of corner a, all lanes
+            auto at = [&](int l) { return p[std::size_t(v[3 * l + a]) * 3 + c]; };
+            return f4{at(0), at(1), at(2), at(3)};
+        };
+        const f4 q[3][3] = {{gather(0, 0), gather(0, 1), gather(0, 2)},
+                            {gather(1, 0), gather(1, 1), gather(1, 2)},
+                            {gather(2, 0), gather(2, 1), gather(2, 2)}};  // q[a][c]
         const f4 e1[3] = {q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
         const f4 e2[3] = {q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
         const f4 c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                          e1[0] * e2[1] - e1[1] * e2[0]};
         const f4 len2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
-        f4 len;
-        for (int l = 0; l < 4; ++l) len[l] = std::sqrt(len2[l]);
+        const f4 len = {std::sqrt(len2[0]), std::sqrt(len2[1]), std::sqrt(len2[2]), std::sqrt(len2[3])};
         const f4 inv = 1.0f / len;  // unused lanes (len 0) are skipped below
         const f4 nrm[3] = {c[0] * inv, c[1] * inv, c[2] * inv};
         f4 add[3][3];  // add[a][c]: what corner a adds to its vertex
