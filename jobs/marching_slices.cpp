@@ -14,7 +14,8 @@ constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's lim
 
 BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive) {
+                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
+                            unsigned empty_neighbours) {
     const MarchingTables& mt = marching_tables();
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n, n1 = n + 1, cols = n1 * n1;
@@ -153,8 +154,9 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};
     for (std::uint32_t a = 0; a < 3; ++a)
         for (std::uint32_t side = 0; side < 2; ++side) {
-            if (side == 0 && bidx[a] == 0) continue;          // outer grid face: no surface there
-            if (side == 1 && bidx[a] + 1 == nb[a]) continue;  // likewise
+            if (side == 0 && bidx[a] == 0) continue;                // outer grid face: no surface there
+            if (side == 1 && bidx[a] + 1 == nb[a]) continue;        // likewise
+            if (empty_neighbours >> (2 * a + side) & 1u) continue;  // F = 0 on the whole face
             const std::uint32_t u = (a + 1) % 3, w = (a + 2) % 3;
             fill_face(a, side);
             for (std::uint32_t cw = 0; cw < n; ++cw)

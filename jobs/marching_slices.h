@@ -72,8 +72,12 @@ struct SliceScratchSizes {
 
 // `exhaustive`: also seed from every sign change along every z column of the block ((n+1)^3 corner
 // evaluations), which finds every component, empty cavities included, like plain marching cubes.
+// `empty_neighbours`: bit 2 a + side is set when the neighbouring block across face (axis a, min side 0 /
+// max side 1) lists no particle: no particle reaches that face's corners, F = 0 on all of them, and the
+// face scan skips it.
 BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false);
+                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false,
+                            unsigned empty_neighbours = 0);
 
 }  // namespace rivulet

@@ -65,6 +65,7 @@ SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max
     grid_.voxel = voxel_;
     grid_.rc = rc_;
     grid_.n = settings.block_cubes;
+    div_n_magic_ = ((std::uint64_t(1) << 32) + grid_.n - 1) / grid_.n;
     grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ / voxel_)) + 1;
 }
 
@@ -199,8 +200,8 @@ void SlicesExtractor::block_scatter(ConstPositions p, std::uint32_t chunk) {
 std::uint32_t SlicesExtractor::owner_of(std::uint64_t key) const {
     std::uint32_t i = 0, j = 0, k = 0, axis = 0;
     edge_key_corner(key, i, j, k, axis);
-    const std::uint32_t oi = std::min(i / grid_.n, grid_.bx - 1), oj = std::min(j / grid_.n, grid_.by - 1),
-                        ok = std::min(k / grid_.n, grid_.bz - 1);
+    const std::uint32_t oi = std::min(div_n(i), grid_.bx - 1), oj = std::min(div_n(j), grid_.by - 1),
+                        ok = std::min(div_n(k), grid_.bz - 1);
     return (ok * grid_.by + oj) * grid_.bx + oi;
 }
 
@@ -233,6 +234,18 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
     }
     const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach};
 
+    // Neighbours that list no particle: their shared face carries no surface (march_block).
+    unsigned empty_neighbours = 0;
+    const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {grid_.bx, grid_.by, grid_.bz},
+                        stride[3] = {1, grid_.bx, grid_.bx * grid_.by};
+    for (std::uint32_t a = 0; a < 3; ++a)
+        for (std::uint32_t side = 0; side < 2; ++side) {
+            if (side == 0 ? bidx[a] == 0 : bidx[a] + 1 == nb[a])
+                continue;  // grid boundary: march_block knows
+            const std::uint32_t o = side == 0 ? b - stride[a] : b + stride[a];
+            if (block_offsets_[o + 1] == block_offsets_[o]) empty_neighbours |= 1u << (2 * a + side);
+        }
+
     // The sweep (run again with more room in the rare case the block's mesh outgrew its buffers).
     BlockSlot& slot = slots_[item];
     const SliceScratch scratch = s.view(grid_);
@@ -244,7 +257,7 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
             march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
                         {slot.positions.span(slot.positions.capacity()), slot.keys.span(slot.keys.capacity()),
                          slot.triangles.span(slot.triangles.capacity())},
-                        settings_.exhaustive_seeds);
+                        settings_.exhaustive_seeds, empty_neighbours);
         if (!slot.sweep.overflow) break;
         slot.positions.reserve(slot.positions.capacity() * 2), slot.keys.reserve(slot.keys.capacity() * 2);
         slot.triangles.reserve(slot.triangles.capacity() * 2);
@@ -266,8 +279,9 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
         slot.rank[v] = owned;
         std::uint32_t i = 0, j = 0, k = 0, axis = 0;
         edge_key_corner(key, i, j, k, axis);
-        const bool on_min = (axis != 0 && i % grid_.n == 0) || (axis != 1 && j % grid_.n == 0) ||
-                            (axis != 2 && k % grid_.n == 0);
+        auto on_block_face = [&](std::uint32_t c) { return c == div_n(c) * grid_.n; };
+        const bool on_min = (axis != 0 && on_block_face(i)) || (axis != 1 && on_block_face(j)) ||
+                            (axis != 2 && on_block_face(k));
         if (on_min) slot.border[border++] = {key, owned};
         ++owned;
     }
