@@ -26,7 +26,7 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     std::uint32_t gen = ++*s.generation;
     if (gen == 0) {  // stamps wrapped: clear them once
         std::fill(s.cube_stamp.begin(), s.cube_stamp.end(), 0u);
-        std::fill(s.edge_stamp.begin(), s.edge_stamp.end(), 0u);
+        std::fill(s.edges.begin(), s.edges.end(), EdgeSlot{0, 0});
         gen = *s.generation = 1;
     }
 
@@ -243,16 +243,16 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             const std::uint32_t li = i + (lc & 1u), lj = j + ((lc >> 1) & 1u), lk = k + ((lc >> 2) & 1u);
             const std::size_t ek = ((std::size_t(lk) * n1 + lj) * n1 + li) * 3 + axis;
             std::uint32_t vid;
-            if (s.edge_stamp[ek] == gen) {
-                vid = s.edge_vertex[ek];
+            EdgeSlot& slot = s.edges[ek];
+            if (slot.stamp == gen) {
+                vid = slot.vertex;
             } else {
                 if (st.vertices == max_vertices) {
                     st.overflow = true;
                     return st;
                 }
                 vid = st.vertices++;
-                s.edge_stamp[ek] = gen;
-                s.edge_vertex[ek] = vid;
+                slot = {gen, vid};
                 const std::int32_t gi = i0 + std::int32_t(li), gj = j0 + std::int32_t(lj),
                                    gk = k0 + std::int32_t(lk);
                 float p[3] = {g.cx(gi), g.cy(gj), g.cz(gk)};

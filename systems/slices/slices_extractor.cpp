@@ -29,7 +29,8 @@ struct SlicesExtractor::Scratch {
     AlignedArray<std::uint16_t> rows;
     AlignedArray<float> slices, faces;
     AlignedArray<std::int32_t> slice_slot, free_slots, walk_lo, walk_hi;
-    AlignedArray<std::uint32_t> cube_stamp, edge_stamp, edge_vertex, todo, todo_count;
+    AlignedArray<std::uint32_t> cube_stamp, todo, todo_count;
+    AlignedArray<EdgeSlot> edges;
     std::uint32_t generation = 0;
 
     explicit Scratch(const SliceGrid& g) {
@@ -39,17 +40,24 @@ struct SlicesExtractor::Scratch {
         slices.reserve(z.slices), faces.reserve(z.faces);
         slice_slot.reserve(z.slots), free_slots.reserve(z.slots);
         walk_lo.reserve(z.columns), walk_hi.reserve(z.columns);
-        cube_stamp.reserve(z.cubes), edge_stamp.reserve(z.edges), edge_vertex.reserve(z.edges);
+        cube_stamp.reserve(z.cubes), edges.reserve(z.edges);
         std::fill(cube_stamp.data(), cube_stamp.data() + z.cubes, 0u);
-        std::fill(edge_stamp.data(), edge_stamp.data() + z.edges, 0u);
+        std::fill(edges.data(), edges.data() + z.edges, EdgeSlot{0, 0});
         todo.reserve(z.todo), todo_count.reserve(g.n);
     }
     SliceScratch view(const SliceGrid& g) {
         const SliceScratchSizes z(g.n);
-        return {slices.span(z.slices),     slice_slot.span(z.slots), free_slots.span(z.slots),
-                faces.span(z.faces),       cube_stamp.span(z.cubes), edge_stamp.span(z.edges),
-                edge_vertex.span(z.edges), todo.span(z.todo),        todo_count.span(g.n),
-                walk_lo.span(z.columns),   walk_hi.span(z.columns),  &generation};
+        return {slices.span(z.slices),
+                slice_slot.span(z.slots),
+                free_slots.span(z.slots),
+                faces.span(z.faces),
+                cube_stamp.span(z.cubes),
+                edges.span(z.edges),
+                todo.span(z.todo),
+                todo_count.span(g.n),
+                walk_lo.span(z.columns),
+                walk_hi.span(z.columns),
+                &generation};
     }
 };
 
