@@ -14,6 +14,7 @@
 // same bits from both blocks.
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <span>
 
 #include "jobs/particle_spans.h"
@@ -103,7 +104,7 @@ inline bool cache_inside(const LookupCacheView& c, std::uint32_t n, std::uint32_
 }
 
 // F at the local corners (i, j, k) of one column for every k in [k_lo, k_hi], written to out[k - k_lo];
-// pz[k - k_lo] is the world z of slice k. Bit-identical to cache_field at each corner: every corner adds
+// pz[k - k_lo] is the world z of slice k, readable (any value) up to the next multiple of four entries. Bit-identical to cache_field at each corner: every corner adds
 // the same terms, computed by the same float expressions, in the same (entry) order. Four slices at a
 // time share one pass over the entries that reach any of them; an entry out of a slice's range is beyond
 // R_c there and adds +0.0f, which leaves that sum's bits unchanged. GCC/Clang vector extensions: four
@@ -120,7 +121,7 @@ inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_
     for (std::int32_t a = k_lo; a <= k_hi; a += 4) {
         const std::int32_t b = std::min(a + 3, k_hi), lanes = b - a + 1;
         f4 z;
-        for (std::int32_t l = 0; l < 4; ++l) z[l] = pz[std::min(l, lanes - 1) + (a - k_lo)];
+        std::memcpy(&z, pz + (a - k_lo), sizeof z);  // lanes past k_hi: padding, never stored
         while (first != end && first->mid_z + c.reach + 1 < a) ++first;  // below this run of slices
         f4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
         for (const ColumnEntry* e = first; e != end && e->mid_z - c.reach <= b; ++e) {

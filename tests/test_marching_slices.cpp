@@ -193,7 +193,7 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
     std::vector<std::uint32_t> order(c.size()), counts(lookup_sort_slots(g)), offsets(cols + 1);
     std::vector<std::uint16_t> rows(c.size() * lookup_row_slots(g));
     std::vector<ColumnEntry> entries;
-    std::vector<float> pz(n + 1), column(n + 1);
+    std::vector<float> pz(n + 4), column(n + 1);  // cache_column reads pz in fours
     std::size_t nonzero = 0;
     for (std::uint32_t b = 0; b < g.blocks(); ++b) {
         const std::uint32_t bi = b % g.bx, bj = (b / g.bx) % g.by, bk = b / (g.bx * g.by);
