@@ -85,30 +85,14 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
     return sum;
 }
 
-// Whether F >= iso at local corner (i, j, k) (world z pz): the same sum as cache_field, stopped as soon as
-// it reaches iso. Exact: every term is >= 0 and float addition of a non-negative term never decreases a
-// sum, so a partial sum >= iso means the whole one is too. The face scan needs only this sign, and deep
-// inside the fluid a few terms settle it.
-inline bool cache_inside(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
-                         std::int32_t k, float pz, SliceKernel f, float iso) {
-    const std::uint32_t col = j * (n + 1) + i;
-    const ColumnEntry* end = c.end(col);
-    float sum = 0.0f;
-    for (const ColumnEntry* e = c.first_reaching(c.begin(col), end, k); e != end && e->mid_z - c.reach <= k;
-         ++e) {
-        const float dz = e->z - pz;
-        sum += f(e->dxy + dz * dz);
-        if (sum >= iso) return true;
-    }
-    return sum >= iso;
-}
-
 // F at the local corners (i, j, k) of one column for every k in [k_lo, k_hi], written to out[k - k_lo];
-// pz[k - k_lo] is the world z of slice k, readable (any value) up to the next multiple of four entries. Bit-identical to cache_field at each corner: every corner adds
-// the same terms, computed by the same float expressions, in the same (entry) order. Four slices at a
-// time share one pass over the entries that reach any of them; an entry out of a slice's range is beyond
-// R_c there and adds +0.0f, which leaves that sum's bits unchanged. GCC/Clang vector extensions: four
-// independent IEEE lanes, the same operations as the scalar code (no contraction: -ffp-contract=off).
+// pz[k - k_lo] is the world z of slice k, readable (any value) up to the next multiple of four entries.
+// Bit-identical to cache_field at each corner: every corner adds the same terms, computed by the same
+// float expressions, in the same (entry) order. Four slices at a time share one pass over the entries
+// that reach any of them; an entry out of a slice's range is beyond R_c there and adds +0.0f, which
+// leaves that sum's bits unchanged. GCC/Clang vector extensions: four independent IEEE lanes, the same
+// operations as the scalar code (no contraction: -ffp-contract=off). The seed walks, the face scans and
+// the sweep all evaluate corners through this (a lone corner is a run of one).
 inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
                          std::int32_t k_lo, std::int32_t k_hi, const float* pz, SliceKernel f, float* out) {
     using f4 = float __attribute__((vector_size(16)));

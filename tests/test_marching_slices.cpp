@@ -215,8 +215,6 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
                     cache_column(view, n, i, j, std::int32_t(k), std::int32_t(to), pz.data() + k, f, run);
                     for (std::uint32_t t = k; t <= to; ++t)
                         ASSERT_EQ(std::memcmp(&run[t - k], &column[t], sizeof(float)), 0) << b << " " << t;
-                    for (const float iso : {ex.iso(), 0.5f * ex.iso(), 2.0f * ex.iso()})
-                        ASSERT_EQ(cache_inside(view, n, i, j, std::int32_t(k), pz[k], f, iso), want >= iso);
                     nonzero += want > 0.0f;
                 }
             }
