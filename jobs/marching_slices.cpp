@@ -55,7 +55,9 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         const std::uint32_t c = slab * n * n + in_slab;
         if (s.cube_stamp[c] == gen) return;
         s.cube_stamp[c] = gen;
-        s.todo[std::size_t(slab) * n * n + s.todo_count[slab]++] = in_slab;
+        // Queued as j << 8 | i (n <= 128): unpacking needs no division by the runtime n.
+        s.todo[std::size_t(slab) * n * n + s.todo_count[slab]++] =
+            static_cast<std::uint32_t>(j) << 8 | static_cast<std::uint32_t>(i);
         lowest = std::min(lowest, slab);
     };
 
@@ -208,8 +210,8 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         if (lowest == n) break;
         const std::uint32_t k = lowest;
         release_below(k);
-        const std::uint32_t in_slab = s.todo[std::size_t(k) * n * n + --s.todo_count[k]];
-        const std::uint32_t i = in_slab % n, j = in_slab / n;
+        const std::uint32_t queued = s.todo[std::size_t(k) * n * n + --s.todo_count[k]];
+        const std::uint32_t i = queued & 0xffu, j = queued >> 8;
         ++st.cubes;
 
         float* lower = slice(k);
