@@ -1,8 +1,15 @@
 #include "jobs/lookup_cache.h"
 
 #include <algorithm>
+#include <array>
 
 namespace rivulet {
+namespace {
+
+constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's limit on block_cubes
+constexpr std::uint16_t kEmptyRow = 0x00ff;    // i_lo = 255 > i_hi = 0
+
+}  // namespace
 
 std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                                  ConstPositions p, const LookupScratch& s, std::span<std::uint32_t> offsets,
@@ -13,6 +20,12 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     const std::uint32_t cols = (g.n + 1) * (g.n + 1);
     const std::uint32_t np = static_cast<std::uint32_t>(p.size());
     const SliceKernel f = SliceKernel::from_rc(g.rc);
+    const std::uint32_t row_slots = static_cast<std::uint32_t>(lookup_row_slots(g));
+
+    // Column axes, computed once as every corner computes them (SliceGrid::cx / cy).
+    std::array<float, kMaxBlockCubes + 1> axis_x{}, axis_y{};
+    for (std::int32_t i = 0; i <= n; ++i)
+        axis_x[std::size_t(i)] = g.cx(i0 + i), axis_y[std::size_t(i)] = g.cy(j0 + i);
 
     // Counting sort of the particles by mid_z (stable: ascending index within a slab).
     const std::int32_t mid_base = -g.reach - 2;
@@ -32,42 +45,63 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     }
     for (std::uint32_t q = 0; q < np; ++q) s.order[s.counts[mid_slot(q)]++] = q;
 
-    // Two passes over (particle, covered column): count, then place.
+    // Pass 1: per particle (in sorted order) and row of its reach box, the run of columns within R_c
+    // (row_slots rows from the box's first row; a row is one interval: dx * dx grows with |dx|); count
+    // the entries per column. Pass 2 places them without repeating the distance tests.
     std::fill(offsets.begin(), offsets.begin() + cols + 1, 0u);
-    auto visit = [&](auto&& emit) {
-        for (std::uint32_t o = 0; o < np; ++o) {
-            const std::uint32_t q = s.order[o];
-            const float x = p.x[q], y = p.y[q], z = p.z[q];
-            const std::int32_t cx = SliceGrid::cell(x, g.ox, g.voxel) - i0,
-                               cy = SliceGrid::cell(y, g.oy, g.voxel) - j0,
-                               cz = SliceGrid::cell(z, g.oz, g.voxel) - k0;
-            // Columns within R_c lie in [cell(x - R_c), cell(x + R_c) + 1] (a superset: the exact test
-            // below decides), narrower than the reach box that bounds z.
-            const std::int32_t rlo = SliceGrid::cell(x - g.rc, g.ox, g.voxel) - i0,
-                               rhi = SliceGrid::cell(x + g.rc, g.ox, g.voxel) - i0 + 1;
-            const std::int32_t ilo = std::max({0, cx - g.reach, rlo}),
-                               ihi = std::min({n, cx + g.reach + 1, rhi});
-            const std::int32_t jlo = std::max(0, cy - g.reach), jhi = std::min(n, cy + g.reach + 1);
-            const ColumnEntry entry{x, y, z, cz - g.reach, cz + g.reach + 1, cz};
-            if (entry.max_z < 0 || entry.min_z > n) continue;
-            for (std::int32_t j = jlo; j <= jhi; ++j) {
-                const float dy = y - g.cy(j0 + j);
-                if (!(dy * dy < f.rc2)) continue;  // then no dx passes either
-                for (std::int32_t i = ilo; i <= ihi; ++i) {
-                    const float dx = x - g.cx(i0 + i);
-                    // Same float expression as the corner distance minus its z term: a superset.
-                    if (!(dx * dx + dy * dy < f.rc2)) continue;
-                    emit(static_cast<std::uint32_t>(j * (n + 1) + i), entry);
-                }
-            }
+    auto box_j = [&](float y) { return SliceGrid::cell(y, g.oy, g.voxel) - j0 - g.reach; };
+    for (std::uint32_t o = 0; o < np; ++o) {
+        const std::uint32_t q = s.order[o];
+        const float x = p.x[q], y = p.y[q], z = p.z[q];
+        std::uint16_t* rows = s.rows.data() + std::size_t(o) * row_slots;
+        std::fill(rows, rows + row_slots, kEmptyRow);
+        const std::int32_t cz = SliceGrid::cell(z, g.oz, g.voxel) - k0;
+        if (cz + g.reach + 1 < 0 || cz - g.reach > n) continue;  // reaches no slice of the block
+        const std::int32_t cx = SliceGrid::cell(x, g.ox, g.voxel) - i0, by = box_j(y);
+        // Columns within R_c lie in [cell(x - R_c), cell(x + R_c) + 1] (a superset: the exact test
+        // decides), narrower than the reach box.
+        const std::int32_t rlo = SliceGrid::cell(x - g.rc, g.ox, g.voxel) - i0,
+                           rhi = SliceGrid::cell(x + g.rc, g.ox, g.voxel) - i0 + 1;
+        const std::int32_t ilo = std::max({0, cx - g.reach, rlo}), ihi = std::min({n, cx + g.reach + 1, rhi});
+        const std::int32_t jlo = std::max(0, by), jhi = std::min(n, by + 2 * g.reach + 1);
+        for (std::int32_t j = jlo; j <= jhi; ++j) {
+            const float dy = y - axis_y[std::size_t(j)];
+            if (!(dy * dy < f.rc2)) continue;  // then no dx passes either
+            // Same float expression as the corner distance minus its z term.
+            auto within = [&](std::int32_t i) {
+                const float dx = x - axis_x[std::size_t(i)];
+                return dx * dx + dy * dy < f.rc2;
+            };
+            std::int32_t a = ilo, b = ihi;
+            while (a <= b && !within(a)) ++a;
+            while (b >= a && !within(b)) --b;
+            if (a > b) continue;
+            rows[j - by] = static_cast<std::uint16_t>(a | b << 8);
+            std::uint32_t* count = offsets.data() + 1 + std::uint32_t(j) * (g.n + 1);
+            for (std::int32_t i = a; i <= b; ++i) ++count[i];
         }
-    };
-    visit([&](std::uint32_t col, const ColumnEntry&) { ++offsets[col + 1]; });
+    }
     for (std::uint32_t c = 0; c < cols; ++c) offsets[c + 1] += offsets[c];
     const std::uint32_t total = offsets[cols];
     if (total > entries.size()) return total;
-    // Use the count slots of the sort as nothing else: write cursors walk offsets[col] upwards, then shift.
-    visit([&](std::uint32_t col, const ColumnEntry& e) { entries[offsets[col]++] = e; });
+    // Write cursors walk offsets[col] upwards, then shift back by one column.
+    for (std::uint32_t o = 0; o < np; ++o) {
+        const std::uint32_t q = s.order[o];
+        const float x = p.x[q], y = p.y[q], z = p.z[q];
+        const std::uint16_t* rows = s.rows.data() + std::size_t(o) * row_slots;
+        const std::int32_t mid = SliceGrid::cell(z, g.oz, g.voxel) - k0, by = box_j(y);
+        for (std::uint32_t r = 0; r < row_slots; ++r) {
+            const std::int32_t a = rows[r] & 0xff, b = rows[r] >> 8;
+            if (a > b) continue;
+            const std::int32_t j = by + std::int32_t(r);
+            const float dy = y - axis_y[std::size_t(j)];
+            std::uint32_t* cursor = offsets.data() + std::uint32_t(j) * (g.n + 1);
+            for (std::int32_t i = a; i <= b; ++i) {
+                const float dx = x - axis_x[std::size_t(i)];
+                entries[cursor[i]++] = {dx * dx + dy * dy, z, mid};
+            }
+        }
+    }
     for (std::uint32_t c = cols; c > 0; --c) offsets[c] = offsets[c - 1];
     offsets[0] = 0;
     return total;

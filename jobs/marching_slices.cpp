@@ -14,7 +14,8 @@ constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's lim
 
 BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive) {
+                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
+                            unsigned empty_neighbours) {
     const MarchingTables& mt = marching_tables();
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n, n1 = n + 1, cols = n1 * n1;
@@ -25,27 +26,23 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     std::uint32_t gen = ++*s.generation;
     if (gen == 0) {  // stamps wrapped: clear them once
         std::fill(s.cube_stamp.begin(), s.cube_stamp.end(), 0u);
-        std::fill(s.edge_stamp.begin(), s.edge_stamp.end(), 0u);
+        std::fill(s.edges.begin(), s.edges.end(), EdgeSlot{0, 0});
         gen = *s.generation = 1;
     }
 
-    auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-        const std::int32_t gi = i0 + static_cast<std::int32_t>(i), gj = j0 + static_cast<std::int32_t>(j),
-                           gk = k0 + static_cast<std::int32_t>(k);
-        return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f);
-    };
-
-    // F >= iso at a local corner, from a partial sum where that settles it (the walks and the face scan
-    // need only signs).
-    auto inside = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-        const std::int32_t gi = i0 + static_cast<std::int32_t>(i), gj = j0 + static_cast<std::int32_t>(j),
-                           gk = k0 + static_cast<std::int32_t>(k);
-        return cache_inside(cache, n, i, j, static_cast<std::int32_t>(k), g.cx(gi), g.cy(gj), g.cz(gk), f,
-                            iso);
-    };
-    // World z of each slice, for column evaluations.
-    std::array<float, kMaxBlockCubes + 1> column_z{};
+    // World z of each slice, for corner and column evaluations (padded: column runs read up to four).
+    std::array<float, kMaxBlockCubes + 4> column_z{};
     for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
+    auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+        return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), column_z[k], f);
+    };
+    // F at one corner by the branch-free column kernel (a run of one slice).
+    auto corner = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
+        float v;
+        cache_column(cache, n, i, j, static_cast<std::int32_t>(k), static_cast<std::int32_t>(k),
+                     column_z.data() + k, f, &v);
+        return v;
+    };
 
     // ---- per-slab todo lists ----
     std::fill(s.todo_count.begin(), s.todo_count.end(), 0u);
@@ -58,7 +55,9 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         const std::uint32_t c = slab * n * n + in_slab;
         if (s.cube_stamp[c] == gen) return;
         s.cube_stamp[c] = gen;
-        s.todo[std::size_t(slab) * n * n + s.todo_count[slab]++] = in_slab;
+        // Queued as j << 8 | i (n <= 128): unpacking needs no division by the runtime n.
+        s.todo[std::size_t(slab) * n * n + s.todo_count[slab]++] =
+            static_cast<std::uint32_t>(j) << 8 | static_cast<std::uint32_t>(i);
         lowest = std::min(lowest, slab);
     };
 
@@ -75,11 +74,21 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         std::int32_t& run_hi = s.walk_hi[col];
         if (lk >= run_lo && lk <= run_hi) return true;  // inside a run already walked
         const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
-        if (!inside(ui, uj, static_cast<std::uint32_t>(lk))) return false;
+        // Corner values four slices at a time downwards (one pass over the column's entries each).
+        float run[4];
+        std::int32_t run_top = -1, run_bottom = 0;
+        auto inside_at = [&](std::int32_t k) {
+            if (k > run_top || k < run_bottom) {
+                run_top = k, run_bottom = std::max(0, k - 3);
+                cache_column(cache, n, ui, uj, run_bottom, run_top, column_z.data() + run_bottom, f, run);
+            }
+            return run[k - run_bottom] >= iso;
+        };
+        if (!inside_at(lk)) return false;
         std::int32_t k = lk - 1;
         for (; k >= 0; --k) {
             if (k >= run_lo && k <= run_hi) break;
-            if (!inside(ui, uj, static_cast<std::uint32_t>(k))) break;
+            if (!inside_at(k)) break;
         }
         if (k >= 0 && k >= run_lo && k <= run_hi) {  // joined the known run: same crossing below
             run_hi = std::max(run_hi, lk);
@@ -126,21 +135,19 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
 
     // ---- seeds 2: every block face the surface can cross ----
     // s.faces[w * n1 + u] = 1 where F >= iso on face (a, side), else 0; u and w are the next two axes
-    // after a. The x and y faces are made of whole z columns, evaluated a column at a time; on the z faces
-    // only the sign matters, so each corner's sum stops as soon as it reaches iso.
+    // after a. The x and y faces are made of whole z columns, evaluated a column at a time.
     std::array<float, kMaxBlockCubes + 1> column_f{};
     auto fill_face = [&](std::uint32_t a, std::uint32_t side) {
         if (a == 2) {
             for (std::uint32_t j = 0; j <= n; ++j)
                 for (std::uint32_t i = 0; i <= n; ++i)
-                    s.faces[j * n1 + i] = inside(i, j, side * n) ? 1.0f : 0.0f;
+                    s.faces[j * n1 + i] = corner(i, j, side * n) >= iso ? 1.0f : 0.0f;
             return;
         }
         for (std::uint32_t t = 0; t <= n; ++t) {
             const std::uint32_t i = a == 0 ? side * n : t, j = a == 0 ? t : side * n;
-            cache_column(cache, n, i, j, 0, static_cast<std::int32_t>(n),
-                         g.cx(i0 + static_cast<std::int32_t>(i)), g.cy(j0 + static_cast<std::int32_t>(j)),
-                         column_z.data(), f, column_f.data());
+            cache_column(cache, n, i, j, 0, static_cast<std::int32_t>(n), column_z.data(), f,
+                         column_f.data());
             // a = 0: u = y (t), w = z; a = 1: u = z, w = x (t).
             for (std::uint32_t k = 0; k <= n; ++k)
                 s.faces[a == 0 ? k * n1 + t : t * n1 + k] = column_f[k] >= iso ? 1.0f : 0.0f;
@@ -149,8 +156,9 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};
     for (std::uint32_t a = 0; a < 3; ++a)
         for (std::uint32_t side = 0; side < 2; ++side) {
-            if (side == 0 && bidx[a] == 0) continue;          // outer grid face: no surface there
-            if (side == 1 && bidx[a] + 1 == nb[a]) continue;  // likewise
+            if (side == 0 && bidx[a] == 0) continue;                // outer grid face: no surface there
+            if (side == 1 && bidx[a] + 1 == nb[a]) continue;        // likewise
+            if (empty_neighbours >> (2 * a + side) & 1u) continue;  // F = 0 on the whole face
             const std::uint32_t u = (a + 1) % 3, w = (a + 2) % 3;
             fill_face(a, side);
             for (std::uint32_t cw = 0; cw < n; ++cw)
@@ -202,8 +210,8 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         if (lowest == n) break;
         const std::uint32_t k = lowest;
         release_below(k);
-        const std::uint32_t in_slab = s.todo[std::size_t(k) * n * n + --s.todo_count[k]];
-        const std::uint32_t i = in_slab % n, j = in_slab / n;
+        const std::uint32_t queued = s.todo[std::size_t(k) * n * n + --s.todo_count[k]];
+        const std::uint32_t i = queued & 0xffu, j = queued >> 8;
         ++st.cubes;
 
         float* lower = slice(k);
@@ -212,15 +220,16 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         unsigned mask = 0;
         for (unsigned c = 0; c < 4; ++c) {  // corner c below, c + 4 above
             const std::uint32_t ci = i + (c & 1u), cj = j + ((c >> 1) & 1u), at = cj * n1 + ci;
-            if (lower[at] < 0.0f && upper[at] < 0.0f) {  // both new: one pass over the column
-                float pair[2];
-                cache_column(cache, n, ci, cj, static_cast<std::int32_t>(k), static_cast<std::int32_t>(k + 1),
-                             g.cx(i0 + static_cast<std::int32_t>(ci)),
-                             g.cy(j0 + static_cast<std::int32_t>(cj)), column_z.data() + k, f, pair);
-                lower[at] = pair[0], upper[at] = pair[1];
+            if (lower[at] < 0.0f || upper[at] < 0.0f) {
+                // A run of up to four slices of the column from the first missing one: one pass over the
+                // column's entries, and the cubes above in this column (the sweep's next slabs) mostly
+                // find their corners done. Recomputing a known corner gives the same bits.
+                const std::uint32_t from = lower[at] < 0.0f ? k : k + 1, to = std::min(from + 3, n);
+                float run[4];
+                cache_column(cache, n, ci, cj, static_cast<std::int32_t>(from), static_cast<std::int32_t>(to),
+                             column_z.data() + from, f, run);
+                for (std::uint32_t t = from; t <= to; ++t) slice(t)[at] = run[t - from];
             }
-            if (lower[at] < 0.0f) lower[at] = field(ci, cj, k);
-            if (upper[at] < 0.0f) upper[at] = field(ci, cj, k + 1);
             v[c] = lower[at], v[c + 4] = upper[at];
         }
         for (unsigned c = 0; c < 8; ++c)
@@ -236,16 +245,16 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             const std::uint32_t li = i + (lc & 1u), lj = j + ((lc >> 1) & 1u), lk = k + ((lc >> 2) & 1u);
             const std::size_t ek = ((std::size_t(lk) * n1 + lj) * n1 + li) * 3 + axis;
             std::uint32_t vid;
-            if (s.edge_stamp[ek] == gen) {
-                vid = s.edge_vertex[ek];
+            EdgeSlot& slot = s.edges[ek];
+            if (slot.stamp == gen) {
+                vid = slot.vertex;
             } else {
                 if (st.vertices == max_vertices) {
                     st.overflow = true;
                     return st;
                 }
                 vid = st.vertices++;
-                s.edge_stamp[ek] = gen;
-                s.edge_vertex[ek] = vid;
+                slot = {gen, vid};
                 const std::int32_t gi = i0 + std::int32_t(li), gj = j0 + std::int32_t(lj),
                                    gk = k0 + std::int32_t(lk);
                 float p[3] = {g.cx(gi), g.cy(gj), g.cz(gk)};

@@ -30,6 +30,12 @@
 
 namespace rivulet {
 
+// The block-local vertex on one cube edge, live when stamp equals the sweep's generation (stamp and
+// vertex side by side: one cache line per lookup).
+struct EdgeSlot {
+    std::uint32_t stamp, vertex;
+};
+
 // Scratch of one block sweep, for block edge n (sizes in comments); reusable across blocks.
 struct SliceScratch {
     std::span<float> slices;                   // (n+1) * (n+1)^2: slice cache pool
@@ -37,8 +43,7 @@ struct SliceScratch {
     std::span<std::int32_t> free_slots;        // n+1
     std::span<float> faces;                    // (n+1)^2: one block face at a time
     std::span<std::uint32_t> cube_stamp;       // n^3
-    std::span<std::uint32_t> edge_stamp;       // 3 (n+1)^3
-    std::span<std::uint32_t> edge_vertex;      // 3 (n+1)^3
+    std::span<EdgeSlot> edges;                 // 3 (n+1)^3
     std::span<std::uint32_t> todo;             // n * n^2: per-slab todo lists
     std::span<std::uint32_t> todo_count;       // n
     std::span<std::int32_t> walk_lo, walk_hi;  // (n+1)^2: inside run already walked per column
@@ -72,8 +77,12 @@ struct SliceScratchSizes {
 
 // `exhaustive`: also seed from every sign change along every z column of the block ((n+1)^3 corner
 // evaluations), which finds every component, empty cavities included, like plain marching cubes.
+// `empty_neighbours`: bit 2 a + side is set when the neighbouring block across face (axis a, min side 0 /
+// max side 1) lists no particle: no particle reaches that face's corners, F = 0 on all of them, and the
+// face scan skips it.
 BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false);
+                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false,
+                            unsigned empty_neighbours = 0);
 
 }  // namespace rivulet

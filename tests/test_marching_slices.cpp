@@ -191,27 +191,30 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n, cols = (n + 1) * (n + 1);
     std::vector<std::uint32_t> order(c.size()), counts(lookup_sort_slots(g)), offsets(cols + 1);
+    std::vector<std::uint16_t> rows(c.size() * lookup_row_slots(g));
     std::vector<ColumnEntry> entries;
-    std::vector<float> pz(n + 1), column(n + 1);
+    std::vector<float> pz(n + 4), column(n + 1);  // cache_column reads pz in fours
     std::size_t nonzero = 0;
     for (std::uint32_t b = 0; b < g.blocks(); ++b) {
         const std::uint32_t bi = b % g.bx, bj = (b / g.bx) % g.by, bk = b / (g.bx * g.by);
-        const LookupScratch ls{order, counts};
+        const LookupScratch ls{order, counts, rows};
         entries.resize(build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, {}));
         build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, entries);
-        const LookupCacheView view{offsets, entries, g.reach + 1};
-        const std::int32_t i0 = std::int32_t(bi * n), j0 = std::int32_t(bj * n), k0 = std::int32_t(bk * n);
+        const LookupCacheView view{offsets, entries, g.reach};
+        const std::int32_t k0 = std::int32_t(bk * n);
         for (std::uint32_t k = 0; k <= n; ++k) pz[k] = g.cz(k0 + std::int32_t(k));
         for (std::uint32_t j = 0; j <= n; ++j)
             for (std::uint32_t i = 0; i <= n; ++i) {
-                const float px = g.cx(i0 + std::int32_t(i)), py = g.cy(j0 + std::int32_t(j));
-                cache_column(view, n, i, j, 0, std::int32_t(n), px, py, pz.data(), f, column.data());
+                cache_column(view, n, i, j, 0, std::int32_t(n), pz.data(), f, column.data());
                 for (std::uint32_t k = 0; k <= n; ++k) {
-                    const float want = cache_field(view, n, i, j, std::int32_t(k), px, py, pz[k], f);
+                    const float want = cache_field(view, n, i, j, std::int32_t(k), pz[k], f);
                     ASSERT_EQ(std::memcmp(&want, &column[k], sizeof(float)), 0) << b << " " << i << " " << j;
-                    for (const float iso : {ex.iso(), 0.5f * ex.iso(), 2.0f * ex.iso()})
-                        ASSERT_EQ(cache_inside(view, n, i, j, std::int32_t(k), px, py, pz[k], f, iso),
-                                  want >= iso);
+                    // The sweep's runs: up to four slices from any start.
+                    float run[4];
+                    const std::uint32_t to = std::min(k + 3, n);
+                    cache_column(view, n, i, j, std::int32_t(k), std::int32_t(to), pz.data() + k, f, run);
+                    for (std::uint32_t t = k; t <= to; ++t)
+                        ASSERT_EQ(std::memcmp(&run[t - k], &column[t], sizeof(float)), 0) << b << " " << t;
                     nonzero += want > 0.0f;
                 }
             }

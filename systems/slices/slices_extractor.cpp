@@ -26,9 +26,11 @@ void ensure(AlignedArray<T>& a, std::size_t n) {
 struct SlicesExtractor::Scratch {
     AlignedArray<std::uint32_t> order, sort_counts, column_offsets;
     AlignedArray<ColumnEntry> entries;
+    AlignedArray<std::uint16_t> rows;
     AlignedArray<float> slices, faces;
     AlignedArray<std::int32_t> slice_slot, free_slots, walk_lo, walk_hi;
-    AlignedArray<std::uint32_t> cube_stamp, edge_stamp, edge_vertex, todo, todo_count;
+    AlignedArray<std::uint32_t> cube_stamp, todo, todo_count;
+    AlignedArray<EdgeSlot> edges;
     std::uint32_t generation = 0;
 
     explicit Scratch(const SliceGrid& g) {
@@ -38,17 +40,24 @@ struct SlicesExtractor::Scratch {
         slices.reserve(z.slices), faces.reserve(z.faces);
         slice_slot.reserve(z.slots), free_slots.reserve(z.slots);
         walk_lo.reserve(z.columns), walk_hi.reserve(z.columns);
-        cube_stamp.reserve(z.cubes), edge_stamp.reserve(z.edges), edge_vertex.reserve(z.edges);
+        cube_stamp.reserve(z.cubes), edges.reserve(z.edges);
         std::fill(cube_stamp.data(), cube_stamp.data() + z.cubes, 0u);
-        std::fill(edge_stamp.data(), edge_stamp.data() + z.edges, 0u);
+        std::fill(edges.data(), edges.data() + z.edges, EdgeSlot{0, 0});
         todo.reserve(z.todo), todo_count.reserve(g.n);
     }
     SliceScratch view(const SliceGrid& g) {
         const SliceScratchSizes z(g.n);
-        return {slices.span(z.slices),     slice_slot.span(z.slots), free_slots.span(z.slots),
-                faces.span(z.faces),       cube_stamp.span(z.cubes), edge_stamp.span(z.edges),
-                edge_vertex.span(z.edges), todo.span(z.todo),        todo_count.span(g.n),
-                walk_lo.span(z.columns),   walk_hi.span(z.columns),  &generation};
+        return {slices.span(z.slices),
+                slice_slot.span(z.slots),
+                free_slots.span(z.slots),
+                faces.span(z.faces),
+                cube_stamp.span(z.cubes),
+                edges.span(z.edges),
+                todo.span(z.todo),
+                todo_count.span(g.n),
+                walk_lo.span(z.columns),
+                walk_hi.span(z.columns),
+                &generation};
     }
 };
 
@@ -64,6 +73,7 @@ SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max
     grid_.voxel = voxel_;
     grid_.rc = rc_;
     grid_.n = settings.block_cubes;
+    div_n_magic_ = ((std::uint64_t(1) << 32) + grid_.n - 1) / grid_.n;
     grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ / voxel_)) + 1;
 }
 
@@ -198,8 +208,8 @@ void SlicesExtractor::block_scatter(ConstPositions p, std::uint32_t chunk) {
 std::uint32_t SlicesExtractor::owner_of(std::uint64_t key) const {
     std::uint32_t i = 0, j = 0, k = 0, axis = 0;
     edge_key_corner(key, i, j, k, axis);
-    const std::uint32_t oi = std::min(i / grid_.n, grid_.bx - 1), oj = std::min(j / grid_.n, grid_.by - 1),
-                        ok = std::min(k / grid_.n, grid_.bz - 1);
+    const std::uint32_t oi = std::min(div_n(i), grid_.bx - 1), oj = std::min(div_n(j), grid_.by - 1),
+                        ok = std::min(div_n(k), grid_.bz - 1);
     return (ok * grid_.by + oj) * grid_.bx + oi;
 }
 
@@ -219,8 +229,10 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
 
     // Lookup cache (grown and rebuilt if this block lists more column entries than ever before).
     ensure(s.order, np);
+    ensure(s.rows, std::size_t(np) * lookup_row_slots(grid_));
     const std::size_t cols = std::size_t(grid_.n + 1) * (grid_.n + 1);
-    const LookupScratch ls{s.order.span(np), s.sort_counts.span(lookup_sort_slots(grid_))};
+    const LookupScratch ls{s.order.span(np), s.sort_counts.span(lookup_sort_slots(grid_)),
+                           s.rows.span(std::size_t(np) * lookup_row_slots(grid_))};
     std::uint32_t need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(cols + 1),
                                             s.entries.span(s.entries.capacity()));
     if (need > s.entries.capacity()) {
@@ -228,7 +240,19 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
         need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(cols + 1),
                                   s.entries.span(s.entries.capacity()));
     }
-    const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach + 1};
+    const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach};
+
+    // Neighbours that list no particle: their shared face carries no surface (march_block).
+    unsigned empty_neighbours = 0;
+    const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {grid_.bx, grid_.by, grid_.bz},
+                        stride[3] = {1, grid_.bx, grid_.bx * grid_.by};
+    for (std::uint32_t a = 0; a < 3; ++a)
+        for (std::uint32_t side = 0; side < 2; ++side) {
+            if (side == 0 ? bidx[a] == 0 : bidx[a] + 1 == nb[a])
+                continue;  // grid boundary: march_block knows
+            const std::uint32_t o = side == 0 ? b - stride[a] : b + stride[a];
+            if (block_offsets_[o + 1] == block_offsets_[o]) empty_neighbours |= 1u << (2 * a + side);
+        }
 
     // The sweep (run again with more room in the rare case the block's mesh outgrew its buffers).
     BlockSlot& slot = slots_[item];
@@ -241,7 +265,7 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
             march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
                         {slot.positions.span(slot.positions.capacity()), slot.keys.span(slot.keys.capacity()),
                          slot.triangles.span(slot.triangles.capacity())},
-                        settings_.exhaustive_seeds);
+                        settings_.exhaustive_seeds, empty_neighbours);
         if (!slot.sweep.overflow) break;
         slot.positions.reserve(slot.positions.capacity() * 2), slot.keys.reserve(slot.keys.capacity() * 2);
         slot.triangles.reserve(slot.triangles.capacity() * 2);
@@ -263,8 +287,9 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
         slot.rank[v] = owned;
         std::uint32_t i = 0, j = 0, k = 0, axis = 0;
         edge_key_corner(key, i, j, k, axis);
-        const bool on_min = (axis != 0 && i % grid_.n == 0) || (axis != 1 && j % grid_.n == 0) ||
-                            (axis != 2 && k % grid_.n == 0);
+        auto on_block_face = [&](std::uint32_t c) { return c == div_n(c) * grid_.n; };
+        const bool on_min = (axis != 0 && on_block_face(i)) || (axis != 1 && on_block_face(j)) ||
+                            (axis != 2 && on_block_face(k));
         if (on_min) slot.border[border++] = {key, owned};
         ++owned;
     }
