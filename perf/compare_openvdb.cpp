@@ -116,11 +116,13 @@ int main(int argc, char** argv) {
     std::string sizes = "25000,125000,1000000", threads = "1,2", splash, json_out;
     float radius = 0.01f;
     int repeat = 5;
+    std::uint32_t block = rivulet::SlicesSettings{}.block_cubes;
     app.add_option("--sizes", sizes, "Dam-break block particle counts")->capture_default_str();
     app.add_option("--threads", threads, "Thread counts")->capture_default_str();
     app.add_option("--radius", radius, "Particle radius (voxel = radius / 2)")->capture_default_str();
     app.add_option("--repeat", repeat, "Runs per case; medians")->capture_default_str();
     app.add_option("--splash", splash, "A splashing frame (PLY) to compare as well");
+    app.add_option("--block", block, "Marching slices: cubes per block edge")->capture_default_str();
     app.add_option("--json", json_out, "Write the table as JSON");
     CLI11_PARSE(app, argc, argv);
     openvdb::initialize();
@@ -142,6 +144,7 @@ int main(int argc, char** argv) {
             req.method = "slices";
             req.radius = radius;
             req.repeat = repeat;
+            req.slices.block_cubes = block;
             const MeshResult ours = extract_mesh(cloud, req);
             std::vector<double> vdb_ms;
             VdbResult vdb;
