@@ -1,7 +1,5 @@
 #include "jobs/group_lists.h"
 
-#include <atomic>
-
 namespace rivulet {
 
 std::uint32_t count_group_entries(BinTableView bins, std::uint32_t first_bin, std::uint32_t end_bin,
@@ -19,14 +17,15 @@ std::uint32_t count_group_entries(BinTableView bins, std::uint32_t first_bin, st
     return isolated;
 }
 
-void group_list_offsets(std::uint32_t groups, std::uint32_t chunks, std::span<const std::uint32_t> counts,
-                        std::span<std::uint32_t> cursors, std::span<std::uint32_t> offsets) {
+void group_list_offsets(std::uint32_t groups, std::uint32_t chunks, std::uint32_t row,
+                        std::span<const std::uint32_t> counts, std::span<std::uint32_t> cursors,
+                        std::span<std::uint32_t> offsets) {
     std::uint32_t running = 0;
     for (std::uint32_t g = 0; g < groups; ++g) {
         offsets[g] = running;
         for (std::uint32_t c = 0; c < chunks; ++c) {
-            cursors[std::size_t(c) * groups + g] = running;
-            running += counts[std::size_t(c) * groups + g];
+            cursors[std::size_t(c) * row + g] = running;
+            running += counts[std::size_t(c) * row + g];
         }
     }
     offsets[groups] = running;
@@ -43,9 +42,13 @@ void scatter_group_entries(BinTableView bins, std::uint32_t first_bin, std::uint
             const std::uint32_t particle = bins.entries[e];
             out.bin[slot] = b;
             out.particle[slot] = particle;
-            std::atomic_ref<std::uint8_t>(out.grouped[particle]).store(1, std::memory_order_relaxed);
         }
     }
+}
+
+void mark_grouped_particles(std::span<const std::uint32_t> list_particle, std::span<std::uint8_t> grouped) {
+    for (auto& f : grouped) f = 0;
+    for (const std::uint32_t i : list_particle) grouped[i] = 1;
 }
 
 }  // namespace rivulet

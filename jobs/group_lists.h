@@ -16,22 +16,27 @@ namespace rivulet {
 std::uint32_t count_group_entries(BinTableView bins, std::uint32_t first_bin, std::uint32_t end_bin,
                                   std::span<const std::int32_t> entry_group, std::span<std::uint32_t> counts);
 
-// Once: per-chunk counts (chunk-major: counts[c * groups + g]) to per-chunk cursors (same layout) and the
-// lists' offsets (groups + 1).
-void group_list_offsets(std::uint32_t groups, std::uint32_t chunks, std::span<const std::uint32_t> counts,
-                        std::span<std::uint32_t> cursors, std::span<std::uint32_t> offsets);
+// Once: per-chunk counts (chunk-major rows of `row` >= groups words: counts[c * row + g]) to per-chunk
+// cursors (same layout) and the lists' offsets (groups + 1). Each chunk's job increments its own row once
+// per entry, so rows should start on separate cache lines (kGroupRowAlign words).
+inline constexpr std::uint32_t kGroupRowAlign = 16;
+void group_list_offsets(std::uint32_t groups, std::uint32_t chunks, std::uint32_t row,
+                        std::span<const std::uint32_t> counts, std::span<std::uint32_t> cursors,
+                        std::span<std::uint32_t> offsets);
 
 struct GroupListsOut {
     std::span<std::uint32_t> bin;       // per list slot: its bin (= cylinder ring)
     std::span<std::uint32_t> particle;  // per list slot: particle index
-    std::span<std::uint8_t> grouped;    // per particle: set to 1 when any of its entries joined a group
 };
 
-// Per chunk: writes the chunk's grouped entries at its cursors (`groups` slots, advanced in place). A
-// particle's entries can fall in two chunks, so `grouped` is set with relaxed atomic stores; the caller
-// clears it before.
+// Per chunk: writes the chunk's grouped entries at its cursors (`groups` slots, advanced in place).
 void scatter_group_entries(BinTableView bins, std::uint32_t first_bin, std::uint32_t end_bin,
                            std::span<const std::int32_t> entry_group, std::span<std::uint32_t> cursors,
                            const GroupListsOut& out);
+
+// grouped[i] = 1 for every particle in the lists, 0 for the others (isolated particles). One pass on one
+// thread: a bin's particles are scattered over the particle array, so chunks of bins setting flags in
+// parallel would share every cache line of it.
+void mark_grouped_particles(std::span<const std::uint32_t> list_particle, std::span<std::uint8_t> grouped);
 
 }  // namespace rivulet

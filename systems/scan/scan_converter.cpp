@@ -53,8 +53,9 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     list_offsets_.reserve(settings.max_groups + 1);
     list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
     vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups);
-    chunk_group_counts_.reserve(std::size_t(bin_chunks()) * settings.max_groups);
-    chunk_group_cursors_.reserve(std::size_t(bin_chunks()) * settings.max_groups);
+    const std::size_t max_row = (settings.max_groups + kGroupRowAlign - 1) / kGroupRowAlign * kGroupRowAlign;
+    chunk_group_counts_.reserve(std::size_t(bin_chunks()) * max_row);
+    chunk_group_cursors_.reserve(std::size_t(bin_chunks()) * max_row);
     chunk_isolated_.reserve(bin_chunks());
     circle_cx_.reserve(entry_capacity_), circle_cz_.reserve(entry_capacity_),
         circle_rho_.reserve(entry_capacity_);
@@ -146,9 +147,15 @@ void ScanConverter::group() {
                                blocked_bin_.span(settings_.max_groups)});
 }
 
+// Each chunk's row of per-group counters starts on its own cache line: a chunk's job bumps a counter per
+// entry, and with one long stream every chunk bumps group 0's.
+std::uint32_t ScanConverter::group_row() const {
+    return (grouping_.groups + kGroupRowAlign - 1) / kGroupRowAlign * kGroupRowAlign;
+}
+
 std::span<std::uint32_t> ScanConverter::chunk_span(AlignedArray<std::uint32_t>& a, std::uint32_t bin_chunk) {
-    return a.span(std::size_t(bin_chunks()) * grouping_.groups)
-        .subspan(std::size_t(bin_chunk) * grouping_.groups, grouping_.groups);
+    return a.span(std::size_t(bin_chunks()) * group_row())
+        .subspan(std::size_t(bin_chunk) * group_row(), grouping_.groups);
 }
 
 void ScanConverter::spread(std::uint32_t bin_chunk) {
@@ -162,20 +169,19 @@ void ScanConverter::spread(std::uint32_t bin_chunk) {
 
 void ScanConverter::list_offsets() {
     const std::uint32_t groups = grouping_.groups, chunks = bin_chunks();
-    group_list_offsets(groups, chunks, chunk_group_counts_.span(std::size_t(chunks) * groups),
-                       chunk_group_cursors_.span(std::size_t(chunks) * groups),
-                       list_offsets_.span(groups + 1));
+    const std::uint32_t row = group_row();
+    group_list_offsets(groups, chunks, row, chunk_group_counts_.span(std::size_t(chunks) * row),
+                       chunk_group_cursors_.span(std::size_t(chunks) * row), list_offsets_.span(groups + 1));
     grouping_.isolated_entries = 0;
     for (std::uint32_t c = 0; c < chunks; ++c) grouping_.isolated_entries += chunk_isolated_[c];
-    for (auto& f : grouped_.span(particles_)) f = 0;
     split_into_pieces();
 }
 
 void ScanConverter::lists(std::uint32_t bin_chunk) {
     const std::uint32_t first = bin_chunk * kBinsPerChunk, end = std::min(first + kBinsPerChunk, grid_.bins);
-    scatter_group_entries(
-        bins(), first, end, entry_group_.span(entries_), chunk_span(chunk_group_cursors_, bin_chunk),
-        {list_bin_.span(entries_), list_particle_.span(entries_), grouped_.span(particles_)});
+    scatter_group_entries(bins(), first, end, entry_group_.span(entries_),
+                          chunk_span(chunk_group_cursors_, bin_chunk),
+                          {list_bin_.span(entries_), list_particle_.span(entries_)});
 }
 
 void ScanConverter::split_into_pieces() {
@@ -216,6 +222,7 @@ void ScanConverter::normals(std::uint32_t piece, ScanOutput& out) {
 }
 
 void ScanConverter::isolated(ConstPositions p, ScanOutput& out) {
+    mark_grouped_particles(list_particle_.span(list_offsets_[grouping_.groups]), grouped_.span(particles_));
     out.sphere_count =
         collect_isolated(p, grouped_.span(particles_), out.sphere_centers.span(particles_ * 3));
 }

@@ -107,6 +107,7 @@ class ScanConverter {
     AlignedArray<std::uint32_t> chunk_group_counts_, chunk_group_cursors_, chunk_isolated_;
     std::span<std::uint32_t> chunk_span(AlignedArray<std::uint32_t>& a, std::uint32_t bin_chunk);
     LinkForest forest();
+    std::uint32_t group_row() const;
     AlignedArray<float> circle_cx_, circle_cz_, circle_rho_;
     std::uint32_t pieces_ = 0;
     AlignedArray<std::uint32_t> piece_group_, piece_first_;
