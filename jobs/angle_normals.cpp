@@ -6,32 +6,9 @@
 namespace rivulet {
 namespace {
 
-// atan2(y, x) for y > 0, in (0, pi): the angle between two edges from |u x w| and u . w. std::atan2 cost
-// three quarters of the normals job; this is an octant reduction to [0, 1] and the odd polynomial of
-// Abramowitz & Stegun 4.4.49 (error 3e-7 rad in float, measured against double atan2), plain float
-// operations in a fixed order, so the result is deterministic like the rest of the sum.
-float edge_angle(float y, float x) {
-    const float ax = std::fabs(x);
-    const bool steep = y > ax;
-    const float t = std::min(ax, y) / std::max(ax, y);  // in [0, 1]; y > 0 keeps the divisor non-zero
-    const float t2 = t * t;
-    float poly = -0.0040540580f;
-    poly = poly * t2 + 0.0218612288f;
-    poly = poly * t2 - 0.0559098861f;
-    poly = poly * t2 + 0.0964200441f;
-    poly = poly * t2 - 0.1390853351f;
-    poly = poly * t2 + 0.1994653599f;
-    poly = poly * t2 - 0.3332985605f;
-    poly = poly * t2 + 0.9999993329f;
-    float a = t * poly;                 // atan(t) in [0, pi/4]
-    if (steep) a = 1.57079632679f - a;  // atan(y / |x|) in [0, pi/2]
-    if (x < 0.0f) a = 3.14159265359f - a;
-    return a;
-}
-
-// The same computation for four triangles at once (GCC/Clang vector extensions): every lane performs
-// the scalar code's float operations in the same order (branches become selects), so the values are
-// bit-identical; only the adds into the accumulators stay scalar, in triangle order.
+// Four triangles at once (GCC/Clang vector extensions): every lane performs the same float operations
+// in the same order, so a triangle's values do not depend on its lane or on its neighbours; only the adds
+// into the accumulators are scalar, in triangle order.
 using f4 = float __attribute__((vector_size(16)));
 using i4 = std::int32_t __attribute__((vector_size(16)));
 
@@ -39,6 +16,10 @@ f4 select(i4 m, f4 a, f4 b) {
     return reinterpret_cast<f4>((m & reinterpret_cast<i4>(a)) | (~m & reinterpret_cast<i4>(b)));
 }
 
+// atan2(y, x) for y > 0, in (0, pi): the angle between two edges from |u x w| and u . w. std::atan2 cost
+// three quarters of the normals job; this is an octant reduction to [0, 1] and the odd polynomial of
+// Abramowitz & Stegun 4.4.49 (error 3e-7 rad in float, measured against double atan2), plain float
+// operations in a fixed order, so the result is deterministic like the rest of the sum.
 f4 edge_angle4(f4 y, f4 x) {
     const f4 ax = reinterpret_cast<f4>(reinterpret_cast<i4>(x) & 0x7fffffff);
     const i4 steep = y > ax;
@@ -57,28 +38,40 @@ f4 edge_angle4(f4 y, f4 x) {
     return select(x < 0.0f, 3.14159265359f - a, a);
 }
 
-// One triangle, scalar: the tail of the triangle list.
-void accumulate_one(const float* p, const std::uint32_t* tri, float* acc) {
-    const std::uint32_t v[3] = {tri[0], tri[1], tri[2]};
-    const float* q[3] = {&p[std::size_t(v[0]) * 3], &p[std::size_t(v[1]) * 3], &p[std::size_t(v[2]) * 3]};
-    const float e1[3] = {q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
-    const float e2[3] = {q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
-    const float c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                        e1[0] * e2[1] - e1[1] * e2[0]};
-    const float len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-    if (!(len > 0.0f)) return;
-    const float inv = 1.0f / len;
-    const float nrm[3] = {c[0] * inv, c[1] * inv, c[2] * inv};
+// Triangles v[0..2], v[3..5], v[6..8], v[9..11] (v[3 l + a]: corner a of lane l). A zero-area lane adds
+// nothing.
+void accumulate_four(std::span<const float> p, const std::uint32_t* v, std::span<float> acc) {
+    auto gather = [&](int a, std::size_t c) {  // coordinate c of corner a, all lanes
+        auto at = [&](int l) { return p[std::size_t(v[3 * l + a]) * 3 + c]; };
+        return f4{at(0), at(1), at(2), at(3)};
+    };
+    const f4 q[3][3] = {{gather(0, 0), gather(0, 1), gather(0, 2)},
+                        {gather(1, 0), gather(1, 1), gather(1, 2)},
+                        {gather(2, 0), gather(2, 1), gather(2, 2)}};  // q[a][c]
+    const f4 e1[3] = {q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
+    const f4 e2[3] = {q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
+    const f4 c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                     e1[0] * e2[1] - e1[1] * e2[0]};
+    const f4 len2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    const f4 len = {std::sqrt(len2[0]), std::sqrt(len2[1]), std::sqrt(len2[2]), std::sqrt(len2[3])};
+    const f4 inv = 1.0f / len;  // unused lanes (len 0) are skipped below
+    const f4 nrm[3] = {c[0] * inv, c[1] * inv, c[2] * inv};
+    f4 add[3][3];  // add[a][c]: what corner a adds to its vertex
     for (int a = 0; a < 3; ++a) {
-        const float* o = q[a];
-        const float* b = q[(a + 1) % 3];
-        const float* d = q[(a + 2) % 3];
-        const float u[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
-        const float w[3] = {d[0] - o[0], d[1] - o[1], d[2] - o[2]};
-        // |u x w| is twice the area at every corner: the angle is atan2(2 area, u . w).
-        const float angle = edge_angle(len, u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
-        float* out = &acc[std::size_t(v[a]) * 3];
-        out[0] += angle * nrm[0], out[1] += angle * nrm[1], out[2] += angle * nrm[2];
+        const f4* o = q[a];
+        const f4* b = q[(a + 1) % 3];
+        const f4* d = q[(a + 2) % 3];
+        const f4 u[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
+        const f4 w[3] = {d[0] - o[0], d[1] - o[1], d[2] - o[2]};
+        const f4 angle = edge_angle4(len, u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
+        for (int k = 0; k < 3; ++k) add[a][k] = angle * nrm[k];
+    }
+    for (int l = 0; l < 4; ++l) {
+        if (!(len[l] > 0.0f)) continue;
+        for (int a = 0; a < 3; ++a) {
+            float* out = &acc[std::size_t(v[3 * l + a]) * 3];
+            out[0] += add[a][0][l], out[1] += add[a][1][l], out[2] += add[a][2][l];
+        }
     }
 }
 
@@ -89,42 +82,13 @@ void accumulate_angle_normals(std::span<const float> p, std::span<const std::uin
     std::fill(acc.begin(), acc.end(), 0.0f);
     const std::size_t count = tri.size() / 3;
     std::size_t t = 0;
-    for (; t + 4 <= count; t += 4) {
-        const std::uint32_t* v = tri.data() + t * 3;  // v[3 l + a]: corner a of lane l
-        auto gather = [&](int a, std::size_t c) {     // coordinate c of corner a, all lanes
-            auto at = [&](int l) { return p[std::size_t(v[3 * l + a]) * 3 + c]; };
-            return f4{at(0), at(1), at(2), at(3)};
-        };
-        const f4 q[3][3] = {{gather(0, 0), gather(0, 1), gather(0, 2)},
-                            {gather(1, 0), gather(1, 1), gather(1, 2)},
-                            {gather(2, 0), gather(2, 1), gather(2, 2)}};  // q[a][c]
-        const f4 e1[3] = {q[1][0] - q[0][0], q[1][1] - q[0][1], q[1][2] - q[0][2]};
-        const f4 e2[3] = {q[2][0] - q[0][0], q[2][1] - q[0][1], q[2][2] - q[0][2]};
-        const f4 c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                         e1[0] * e2[1] - e1[1] * e2[0]};
-        const f4 len2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
-        const f4 len = {std::sqrt(len2[0]), std::sqrt(len2[1]), std::sqrt(len2[2]), std::sqrt(len2[3])};
-        const f4 inv = 1.0f / len;  // unused lanes (len 0) are skipped below
-        const f4 nrm[3] = {c[0] * inv, c[1] * inv, c[2] * inv};
-        f4 add[3][3];  // add[a][c]: what corner a adds to its vertex
-        for (int a = 0; a < 3; ++a) {
-            const f4* o = q[a];
-            const f4* b = q[(a + 1) % 3];
-            const f4* d = q[(a + 2) % 3];
-            const f4 u[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
-            const f4 w[3] = {d[0] - o[0], d[1] - o[1], d[2] - o[2]};
-            const f4 angle = edge_angle4(len, u[0] * w[0] + u[1] * w[1] + u[2] * w[2]);
-            for (int k = 0; k < 3; ++k) add[a][k] = angle * nrm[k];
-        }
-        for (int l = 0; l < 4; ++l) {
-            if (!(len[l] > 0.0f)) continue;
-            for (int a = 0; a < 3; ++a) {
-                float* out = &acc[std::size_t(v[3 * l + a]) * 3];
-                out[0] += add[a][0][l], out[1] += add[a][1][l], out[2] += add[a][2][l];
-            }
-        }
+    for (; t + 4 <= count; t += 4) accumulate_four(p, tri.data() + t * 3, acc);
+    if (t < count) {
+        // The last one to three triangles, padded with zero-area ones (vertex 0 three times).
+        std::uint32_t tail[12] = {};
+        std::copy(tri.data() + t * 3, tri.data() + count * 3, tail);
+        accumulate_four(p, tail, acc);
     }
-    for (; t < count; ++t) accumulate_one(p.data(), tri.data() + t * 3, acc.data());
 }
 
 void normalize_or_up(float* n) {
