@@ -40,24 +40,35 @@ void circle_maxima(CirclesView c, AngleTable a, std::span<float> r) {
 
 namespace {
 
-RIVULET_INLINE void smooth_cyclic_body(std::span<float> r, int iterations, std::span<float> tmp) {
-    const std::size_t u = r.size();
+// r[k * Lanes + j] is ring j's value at angle k: the lanes of one angle are independent rings, so each
+// step is a few full-width vector operations with no remainder, and every lane computes exactly what a
+// lone ring would.
+template <std::size_t Lanes>
+RIVULET_INLINE void smooth_cyclic_body(std::span<float> r, std::size_t u, int iterations, std::span<float> tmp) {
     if (u < 3) return;
     // Ping-pong between r and tmp; the wrap-around ends are done apart so the middle loop vectorizes.
     float* src = r.data();
     float* dst = tmp.data();
+    const auto step = [](float* d, const float* before, const float* at, const float* after) {
+        for (std::size_t j = 0; j < Lanes; ++j) d[j] = 0.25f * before[j] + 0.5f * at[j] + 0.25f * after[j];
+    };
     for (int it = 0; it < iterations; ++it) {
-        dst[0] = 0.25f * src[u - 1] + 0.5f * src[0] + 0.25f * src[1];
+        step(dst, src + (u - 1) * Lanes, src, src + Lanes);
         for (std::size_t k = 1; k + 1 < u; ++k)
-            dst[k] = 0.25f * src[k - 1] + 0.5f * src[k] + 0.25f * src[k + 1];
-        dst[u - 1] = 0.25f * src[u - 2] + 0.5f * src[u - 1] + 0.25f * src[0];
+            step(dst + k * Lanes, src + (k - 1) * Lanes, src + k * Lanes, src + (k + 1) * Lanes);
+        step(dst + (u - 1) * Lanes, src + (u - 2) * Lanes, src + (u - 1) * Lanes, src);
         std::swap(src, dst);
     }
-    if (src != r.data()) std::copy(src, src + u, r.data());
+    if (src != r.data()) std::copy(src, src + u * Lanes, r.data());
 }
 
 RIVULET_AVX2 void smooth_cyclic_avx2(std::span<float> r, int iterations, std::span<float> tmp) {
-    smooth_cyclic_body(r, iterations, tmp);
+    smooth_cyclic_body<1>(r, r.size(), iterations, tmp);
+}
+
+RIVULET_AVX2 void smooth_cyclic_rings_avx2(std::span<float> r, std::size_t u, int iterations,
+                                           std::span<float> tmp) {
+    smooth_cyclic_body<kSmoothLanes>(r, u, iterations, tmp);
 }
 
 }  // namespace
@@ -66,7 +77,14 @@ void smooth_cyclic(std::span<float> r, int iterations, std::span<float> tmp) {
     if (cpu_has_avx2())
         smooth_cyclic_avx2(r, iterations, tmp);
     else
-        smooth_cyclic_body(r, iterations, tmp);
+        smooth_cyclic_body<1>(r, r.size(), iterations, tmp);
+}
+
+void smooth_cyclic_rings(std::span<float> r, std::size_t u, int iterations, std::span<float> tmp) {
+    if (cpu_has_avx2())
+        smooth_cyclic_rings_avx2(r, u, iterations, tmp);
+    else
+        smooth_cyclic_body<kSmoothLanes>(r, u, iterations, tmp);
 }
 
 void gaussian_blend(CirclesView c, AngleTable a, float tension, std::span<float> r, std::span<float> alpha) {

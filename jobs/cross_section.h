@@ -2,6 +2,7 @@
 // Radial cross-section functions of sphere scan conversion (seed 000 §2.3, Appendix A). The spheres of a
 // group cut a cross-section plane in circles; with the circles' centroid as origin, r(theta) at the U
 // angles of the cylinder gives the ring of vertices.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -33,6 +34,12 @@ void circle_maxima(CirclesView circles, AngleTable angles, std::span<float> r);
 
 // The seed's 3-point iterative smoothing, weights (1/4, 1/2, 1/4), cyclic in theta; `tmp` as large as r.
 void smooth_cyclic(std::span<float> r, int iterations, std::span<float> tmp);
+
+// The same smoothing for kSmoothLanes rings at once, interleaved: r[k * kSmoothLanes + j] is ring j's
+// value at angle k (u angles). Each ring gets the same bytes as smooth_cyclic on its own; `tmp` as
+// large as r.
+inline constexpr std::size_t kSmoothLanes = 8;
+void smooth_cyclic_rings(std::span<float> r, std::size_t u, int iterations, std::span<float> tmp);
 
 // Equations (2)-(3) with the blend of Appendix A: gauss_i = exp(-w_i (1 - U.Cdir)), peak 1 towards the
 // circle, h_i = Cdist + Cradius, w_i = k Cdist^2 / Cradius; alpha saturates at 1. Every r(theta) is a

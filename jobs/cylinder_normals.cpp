@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "jobs/cpu_dispatch.h"
 #include "jobs/deform_cylinder.h"
 
 namespace rivulet {
@@ -18,7 +19,7 @@ struct Normals {
     std::array<float, kMaxRingVertices + 1> x, y, z;
 };
 
-void load_ring(const float* v, std::uint32_t first, std::uint32_t u, Ring& r) {
+RIVULET_INLINE void load_ring(const float* v, std::uint32_t first, std::uint32_t u, Ring& r) {
     for (std::uint32_t k = 0; k < u; ++k) {
         const float* p = v + std::size_t(first + k) * 6;
         r.x[k] = p[0], r.y[k] = p[1], r.z[k] = p[2];
@@ -26,7 +27,7 @@ void load_ring(const float* v, std::uint32_t first, std::uint32_t u, Ring& r) {
     r.x[u] = r.x[0], r.y[u] = r.y[0], r.z[u] = r.z[0];
 }
 
-void cross_into(float ax, float ay, float az, float bx, float by, float bz, float& nx, float& ny, float& nz) {
+RIVULET_INLINE void cross_into(float ax, float ay, float az, float bx, float by, float bz, float& nx, float& ny, float& nz) {
     nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
 }
 
@@ -34,7 +35,7 @@ void cross_into(float ax, float ay, float az, float bx, float by, float bz, floa
 // does (write_cylinder_indices): t1 = (a_k, b_k1, b_k), t2 = (a_k, a_k1, b_k1). Adds each face normal
 // (edge cross product, so area-weighted) to its three corners' sums.
 // Always inlined: each call site then knows its four arrays are distinct, and the loops vectorize.
-[[gnu::always_inline]] inline void add_band(std::uint32_t u, const Ring& a, const Ring& b, Normals& na,
+RIVULET_INLINE void add_band(std::uint32_t u, const Ring& a, const Ring& b, Normals& na,
                                             Normals& nb) {
     std::array<float, kMaxRingVertices + 1> sx, sy, sz, tx, ty, tz;  // t1 and t1 + t2 per quad
     for (std::uint32_t k = 0; k < u; ++k) {
@@ -61,7 +62,7 @@ void cross_into(float ax, float ay, float az, float bx, float by, float bz, floa
 
 // Cap fan from `pole` over ring r: triangles (pole, r_k1, r_k) on top, (pole, r_k, r_k1) at the bottom.
 // Adds to the ring's sums and returns the pole's sum in (px, py, pz).
-void add_cap(std::uint32_t u, const float* pole, const Ring& r, bool top, Normals& nr, float& px, float& py,
+RIVULET_INLINE void add_cap(std::uint32_t u, const float* pole, const Ring& r, bool top, Normals& nr, float& px, float& py,
              float& pz) {
     px = py = pz = 0.0f;
     for (std::uint32_t k = 0; k < u; ++k) {
@@ -79,31 +80,35 @@ void add_cap(std::uint32_t u, const float* pole, const Ring& r, bool top, Normal
     }
 }
 
-void store_normal(float* vertex, float nx, float ny, float nz) {
+// Unit normal of a summed face normal; a collapsed neighbourhood (zero-area faces, or an inner ring's
+// unused pole) points up so the normal stays unit length: such a vertex covers no visible area.
+RIVULET_INLINE void unit_normal(float& nx, float& ny, float& nz) {
     const float len = std::sqrt(nx * nx + ny * ny + nz * nz);
-    if (len > 1e-20f) {
-        const float inv = 1.0f / len;
-        vertex[3] = nx * inv, vertex[4] = ny * inv, vertex[5] = nz * inv;
-    } else {
-        // Collapsed neighbourhood (zero-area faces, or an inner ring's unused pole): point up so the
-        // normal stays unit length; such a vertex covers no visible area.
-        vertex[3] = 0.0f, vertex[4] = 1.0f, vertex[5] = 0.0f;
-    }
+    const bool defined = len > 1e-20f;
+    const float inv = 1.0f / len;
+    nx = defined ? nx * inv : 0.0f;
+    ny = defined ? ny * inv : 1.0f;
+    nz = defined ? nz * inv : 0.0f;
 }
 
-void store_ring(float* v, const CylinderLayout& layout, std::uint32_t ring, const Normals& n) {
-    for (std::uint32_t k = 0; k < layout.u; ++k)
-        store_normal(v + std::size_t(layout.side_vertex(ring, k)) * 6, n.x[k], n.y[k], n.z[k]);
+RIVULET_INLINE void store_normal(float* vertex, float nx, float ny, float nz) {
+    unit_normal(nx, ny, nz);
+    vertex[3] = nx, vertex[4] = ny, vertex[5] = nz;
 }
 
-void clear(Normals& n, std::uint32_t u) {
+// Normalised in SoA first (vector lanes), then written into the interleaved vertices.
+RIVULET_INLINE void store_ring(float* v, const CylinderLayout& layout, std::uint32_t ring, Normals& n) {
+    for (std::uint32_t k = 0; k < layout.u; ++k) unit_normal(n.x[k], n.y[k], n.z[k]);
+    float* out = v + std::size_t(layout.side_vertex(ring, 0)) * 6;
+    for (std::uint32_t k = 0; k < layout.u; ++k) out[k * 6 + 3] = n.x[k], out[k * 6 + 4] = n.y[k], out[k * 6 + 5] = n.z[k];
+}
+
+RIVULET_INLINE void clear(Normals& n, std::uint32_t u) {
     for (std::uint32_t k = 0; k < u; ++k) n.x[k] = n.y[k] = n.z[k] = 0.0f;
 }
 
-}  // namespace
-
-void cylinder_normals(const CylinderLayout& layout, std::uint32_t vmin, std::uint32_t vmax,
-                      std::uint32_t first, std::uint32_t last, std::span<float> vertices) {
+RIVULET_INLINE void cylinder_normals_body(const CylinderLayout& layout, std::uint32_t vmin, std::uint32_t vmax,
+                                          std::uint32_t first, std::uint32_t last, std::span<float> vertices) {
     float* v = vertices.data();
     const std::uint32_t u = layout.u;
     // Rolling window of two rings: ring b's sums start with band b-1 (or the top cap) and are complete
@@ -150,6 +155,22 @@ void cylinder_normals(const CylinderLayout& layout, std::uint32_t vmin, std::uin
         if (b != vmin) store_normal(v + std::size_t(layout.top_pole(b)) * 6, 0.0f, 0.0f, 0.0f);
         if (b != vmax) store_normal(v + std::size_t(layout.bottom_pole(b)) * 6, 0.0f, 0.0f, 0.0f);
     }
+}
+
+// Every step is per-element IEEE arithmetic (no FMA), so both builds give the same bytes.
+RIVULET_AVX2 void cylinder_normals_avx2(const CylinderLayout& layout, std::uint32_t vmin, std::uint32_t vmax,
+                                        std::uint32_t first, std::uint32_t last, std::span<float> vertices) {
+    cylinder_normals_body(layout, vmin, vmax, first, last, vertices);
+}
+
+}  // namespace
+
+void cylinder_normals(const CylinderLayout& layout, std::uint32_t vmin, std::uint32_t vmax,
+                      std::uint32_t first, std::uint32_t last, std::span<float> vertices) {
+    if (cpu_has_avx2())
+        cylinder_normals_avx2(layout, vmin, vmax, first, last, vertices);
+    else
+        cylinder_normals_body(layout, vmin, vmax, first, last, vertices);
 }
 
 }  // namespace rivulet

@@ -174,3 +174,20 @@ TEST(CrossSection, SmoothingKeepsAConstantAndDampsASpike) {
     EXPECT_LT(r[3], 4.0f);
     EXPECT_NEAR(sum_before, sum_after, 1e-4f);  // the kernel conserves the total
 }
+
+TEST(CrossSection, InterleavedRingSmoothingGivesEachRingTheBytesOfItsOwnSmoothing) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> value(0.0f, 3.0f);
+    for (const std::size_t u : {3u, 5u, 20u, 33u}) {
+        std::vector<std::vector<float>> rings(kSmoothLanes, std::vector<float>(u));
+        std::vector<float> interleaved(u * kSmoothLanes), tmp(u * kSmoothLanes), ring_tmp(u);
+        for (std::size_t j = 0; j < kSmoothLanes; ++j)
+            for (std::size_t k = 0; k < u; ++k) interleaved[k * kSmoothLanes + j] = rings[j][k] = value(rng);
+        smooth_cyclic_rings(interleaved, u, 10, tmp);
+        for (std::size_t j = 0; j < kSmoothLanes; ++j) {
+            smooth_cyclic(rings[j], 10, ring_tmp);
+            for (std::size_t k = 0; k < u; ++k)
+                ASSERT_EQ(interleaved[k * kSmoothLanes + j], rings[j][k]) << "u " << u << " ring " << j << " k " << k;
+        }
+    }
+}
