@@ -105,25 +105,45 @@ struct LazyHash {
     bool built = false;
 };
 
-// First entry of bin b at a position below `limit` within eps of q; global entry index or kNoNeighbour.
-std::uint32_t first_within(BinTableView bins, std::uint32_t b, std::uint32_t limit, const Query& q, float eps,
-                           float inv_cell, LazyHash& lazy, std::uint32_t linear_scan_max) {
-    const std::uint32_t base = bins.offsets[b], n = bins.bin_size(b);
-    const float* ex = bins.ex.data() + base;
-    const float* ey = bins.ey.data() + base;
-    const float* ez = bins.ez.data() + base;
-    // In a coherent stream the answer is usually among the bin's first entries: try them in order first.
-    const std::uint32_t probe = std::min(limit, linear_scan_max);
-    if (const std::uint32_t hit = first_near(ex, ey, ez, probe, q); hit != probe) return base + hit;
-    if (probe == limit) return kNoNeighbour;
-    if (!lazy.built) build_bin_hash(bins, b, eps, lazy.hashes), lazy.built = true;
+// One bin's entries, looked up once per job rather than once per query.
+struct BinEntries {
+    std::uint32_t b, base, n;
+    const float *ex, *ey, *ez;
+    BinEntries(BinTableView bins, std::uint32_t bin)
+        : b(bin),
+          base(bins.offsets[bin]),
+          n(bins.bin_size(bin)),
+          ex(bins.ex.data() + base),
+          ey(bins.ey.data() + base),
+          ez(bins.ez.data() + base) {}
+};
+
+// The lowest bin position below `best` among the hits of one bucket, whose items [first, end) hold
+// ascending positions: its first hit is its best, and nothing at or after `best` helps. `best` if none.
+std::uint32_t first_in_bucket(const std::uint32_t* items, const float* hx, const float* hy, const float* hz,
+                              std::uint32_t first, std::uint32_t end, std::uint32_t best, const Query& q) {
+    std::uint32_t k = first;
+    for (; k + 4 <= end && items[k] < best; k += 4)
+        if (const unsigned hits = simd::near_mask(hx + k, hy + k, hz + k, q.x, q.y, q.z, q.eps2))
+            return std::min(best, items[k + static_cast<std::uint32_t>(std::countr_zero(hits))]);
+    for (; k < end && items[k] < best; ++k)
+        if (q.near(hx, hy, hz, k)) return items[k];
+    return best;
+}
+
+// First entry of the bin at a position in [probe, limit) within eps of q, through its hash table (built
+// on first use); global entry index or kNoNeighbour. Out of line: a coherent stream rarely gets here.
+[[gnu::noinline]] std::uint32_t first_within_hashed(BinTableView bins, const BinEntries& bin, std::uint32_t limit,
+                                                    const Query& q, float eps, float inv_cell, LazyHash& lazy) {
+    if (!lazy.built) build_bin_hash(bins, bin.b, eps, lazy.hashes), lazy.built = true;
     const BinHashes& hashes = lazy.hashes;
-    const std::uint32_t* start = hashes.start.data() + table_base(bins, b);
+    const std::uint32_t base = bin.base;
+    const std::uint32_t* start = hashes.start.data() + table_base(bins, bin.b);
     const std::uint32_t* items = hashes.items.data() + base;
     const float* hx = hashes.x.data() + base;
     const float* hy = hashes.y.data() + base;
     const float* hz = hashes.z.data() + base;
-    const auto mask = static_cast<std::uint32_t>(slots_of(n) - 1);
+    const auto mask = static_cast<std::uint32_t>(slots_of(bin.n) - 1);
     // Cells are 2 eps wide: an entry within eps of q lies in q's cell or a neighbour, and the eps-disc
     // spans at most two cells per axis. Clamping to the neighbours keeps that true when eps is below the
     // coordinates' float resolution.
@@ -141,20 +161,21 @@ std::uint32_t first_within(BinTableView bins, std::uint32_t b, std::uint32_t lim
         }
     }
     std::uint32_t best = limit;
-    for (std::uint32_t i = 0; i < count; ++i) {
-        // Positions ascend within a bucket: its first hit is its best, and nothing at or after `best` helps.
-        const std::uint32_t first = start[buckets[i]], end = start[buckets[i] + 1];
-        std::uint32_t k = first;
-        for (; k + 4 <= end && items[k] < best; k += 4) {
-            if (const unsigned hits = simd::near_mask(hx + k, hy + k, hz + k, q.x, q.y, q.z, q.eps2)) {
-                best = std::min(best, items[k + static_cast<std::uint32_t>(std::countr_zero(hits))]);
-                k = end;
-            }
-        }
-        for (; k < end && items[k] < best; ++k)
-            if (q.near(hx, hy, hz, k)) best = items[k], k = end;
-    }
+    for (std::uint32_t i = 0; i < count; ++i)
+        best = first_in_bucket(items, hx, hy, hz, start[buckets[i]], start[buckets[i] + 1], best, q);
     return best == limit ? kNoNeighbour : base + best;
+}
+
+// First entry of the bin at a position below `limit` within eps of q; global entry index or kNoNeighbour.
+// In a coherent stream the answer is usually among the bin's first entries: try them in order first.
+[[gnu::always_inline]] inline std::uint32_t first_within(BinTableView bins, const BinEntries& bin,
+                                                         std::uint32_t limit, const Query& q, float eps,
+                                                         float inv_cell, LazyHash& lazy,
+                                                         std::uint32_t linear_scan_max) {
+    const std::uint32_t probe = std::min(limit, linear_scan_max);
+    if (const std::uint32_t hit = first_near(bin.ex, bin.ey, bin.ez, probe, q); hit != probe) return bin.base + hit;
+    if (probe == limit) return kNoNeighbour;
+    return first_within_hashed(bins, bin, limit, q, eps, inv_cell, lazy);
 }
 
 }  // namespace
@@ -167,17 +188,20 @@ void find_bin_neighbours(BinTableView bins, std::uint32_t b, float eps, const Bi
                          const BinHashes& above, std::span<std::uint32_t> link,
                          std::uint32_t linear_scan_max) {
     const float inv_cell = 0.5f / eps, eps2 = eps * eps;
-    const std::uint32_t base = bins.offsets[b], n = bins.bin_size(b);
+    const BinEntries own_bin(bins, b);
+    const BinEntries above_bin(bins, b == 0 ? b : b - 1);
     LazyHash own_hash{own}, above_hash{above};
-    for (std::uint32_t j = 0; j < n; ++j) {
-        const std::uint32_t e = base + j;
+    for (std::uint32_t j = 0; j < own_bin.n; ++j) {
+        const std::uint32_t e = own_bin.base + j;
         const Query q(bins.ex[e], bins.ey[e], bins.ez[e], eps2);
-        link[e] = first_within(bins, b, j, q, eps, inv_cell, own_hash, linear_scan_max);
+        std::uint32_t found = first_within(bins, own_bin, j, q, eps, inv_cell, own_hash, linear_scan_max);
         // The rules look above only when nothing in the own bin is near.
-        if (link[e] != kNoNeighbour || b == 0) continue;
-        const std::uint32_t above_entry =
-            first_within(bins, b - 1, bins.bin_size(b - 1), q, eps, inv_cell, above_hash, linear_scan_max);
-        if (above_entry != kNoNeighbour) link[e] = above_entry | kLinkAbove;
+        if (found == kNoNeighbour && b != 0) {
+            const std::uint32_t above_entry =
+                first_within(bins, above_bin, above_bin.n, q, eps, inv_cell, above_hash, linear_scan_max);
+            if (above_entry != kNoNeighbour) found = above_entry | kLinkAbove;
+        }
+        link[e] = found;
     }
 }
 
