@@ -133,8 +133,9 @@ std::uint32_t first_in_bucket(const std::uint32_t* items, const float* hx, const
 
 // First entry of the bin at a position in [probe, limit) within eps of q, through its hash table (built
 // on first use); global entry index or kNoNeighbour. Out of line: a coherent stream rarely gets here.
-[[gnu::noinline]] std::uint32_t first_within_hashed(BinTableView bins, const BinEntries& bin, std::uint32_t limit,
-                                                    const Query& q, float eps, float inv_cell, LazyHash& lazy) {
+[[gnu::noinline]] std::uint32_t first_within_hashed(BinTableView bins, const BinEntries& bin,
+                                                    std::uint32_t limit, const Query& q, float eps,
+                                                    float inv_cell, LazyHash& lazy) {
     if (!lazy.built) build_bin_hash(bins, bin.b, eps, lazy.hashes), lazy.built = true;
     const BinHashes& hashes = lazy.hashes;
     const std::uint32_t base = bin.base;
@@ -173,7 +174,8 @@ std::uint32_t first_in_bucket(const std::uint32_t* items, const float* hx, const
                                                          float inv_cell, LazyHash& lazy,
                                                          std::uint32_t linear_scan_max) {
     const std::uint32_t probe = std::min(limit, linear_scan_max);
-    if (const std::uint32_t hit = first_near(bin.ex, bin.ey, bin.ez, probe, q); hit != probe) return bin.base + hit;
+    if (const std::uint32_t hit = first_near(bin.ex, bin.ey, bin.ez, probe, q); hit != probe)
+        return bin.base + hit;
     if (probe == limit) return kNoNeighbour;
     return first_within_hashed(bins, bin, limit, q, eps, inv_cell, lazy);
 }

@@ -2,18 +2,56 @@
 
 #include <cmath>
 
+#include "jobs/cpu_dispatch.h"
+
 namespace rivulet {
 
+namespace {
+
+struct PlaneRange {
+    std::uint32_t first, end;
+};
+
+// A bin index from a float that may be anything (NaN goes to 0), so the conversion is always defined.
+RIVULET_INLINE std::uint32_t clamp_bin(float x, float max_bin) {
+    return static_cast<std::uint32_t>(
+        static_cast<std::int32_t>(x > 0.0f ? (x < max_bin ? x : max_bin) : 0.0f));
+}
+
+// Planes [first, end) hit by a sphere at height y; first = end = 0 when it hits none. Plane b is hit when
+// |y - plane_y(b)| <= radius, i.e. b in [(top - y - r) / s, (top - y + r) / s]. No branch, so a loop of
+// these vectorizes.
+RIVULET_INLINE PlaneRange plane_range(const BinGrid& grid, float y, float inv_spacing) {
+    const float lo = std::ceil((grid.top - y - grid.radius) * inv_spacing);
+    const float hi = std::floor((grid.top - y + grid.radius) * inv_spacing);
+    const float max_bin = static_cast<float>(grid.bins) - 1.0f;
+    const bool hit = hi >= 0.0f && lo <= max_bin && !(hi < lo);
+    const std::uint32_t first = clamp_bin(lo, max_bin), last = clamp_bin(hi, max_bin);
+    return {hit ? first : 0u, hit ? last + 1u : 0u};
+}
+
+// One reciprocal per chunk, not two divisions per particle.
+RIVULET_INLINE void plane_ranges_body(const BinGrid& grid, std::span<const float> y,
+                                      const ParticleBins& spans) {
+    const float inv_spacing = 1.0f / grid.spacing;
+    for (std::size_t i = 0; i < y.size(); ++i) {
+        const PlaneRange r = plane_range(grid, y[i], inv_spacing);
+        spans.first[i] = r.first, spans.end[i] = r.end;
+    }
+}
+
+// Floor and ceil are single instructions from SSE4.1 on; the baseline calls them.
+RIVULET_AVX2 void plane_ranges_avx2(const BinGrid& grid, std::span<const float> y,
+                                    const ParticleBins& spans) {
+    plane_ranges_body(grid, y, spans);
+}
+
+}  // namespace
+
 bool BinGrid::span_of(float y, std::uint32_t& first, std::uint32_t& last) const {
-    // Plane b is hit when |y - plane_y(b)| <= radius, i.e. b in [(top - y - r) / s, (top - y + r) / s].
-    // One reciprocal instead of two divisions: the loops that call this hoist it.
-    const float inv_spacing = 1.0f / spacing;
-    const float lo = std::ceil((top - y - radius) * inv_spacing);
-    const float hi = std::floor((top - y + radius) * inv_spacing);
-    const float max_bin = static_cast<float>(bins) - 1.0f;
-    if (!(hi >= 0.0f) || !(lo <= max_bin) || hi < lo) return false;
-    first = static_cast<std::uint32_t>(lo < 0.0f ? 0.0f : lo);
-    last = static_cast<std::uint32_t>(hi > max_bin ? max_bin : hi);
+    const PlaneRange r = plane_range(*this, y, 1.0f / spacing);
+    if (r.end == 0) return false;
+    first = r.first, last = r.end - 1;
     return true;
 }
 
@@ -23,16 +61,13 @@ std::uint32_t BinGrid::max_bins_per_particle() const {
 
 void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<std::uint32_t> counts,
                      const ParticleBins& spans) {
+    if (cpu_has_avx2())
+        plane_ranges_avx2(grid, y, spans);
+    else
+        plane_ranges_body(grid, y, spans);
     for (auto& c : counts) c = 0;
-    std::uint32_t first = 0, last = 0;
-    for (std::size_t i = 0; i < y.size(); ++i) {
-        if (!grid.span_of(y[i], first, last)) {
-            spans.first[i] = spans.end[i] = 0;
-            continue;
-        }
-        spans.first[i] = first, spans.end[i] = last + 1;
-        for (std::uint32_t b = first; b <= last; ++b) ++counts[b];
-    }
+    for (std::size_t i = 0; i < y.size(); ++i)
+        for (std::uint32_t b = spans.first[i]; b < spans.end[i]; ++b) ++counts[b];
 }
 
 std::uint32_t bin_prefix(std::uint32_t bins, std::uint32_t chunks, std::span<const std::uint32_t> counts,

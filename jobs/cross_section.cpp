@@ -44,7 +44,8 @@ namespace {
 // step is a few full-width vector operations with no remainder, and every lane computes exactly what a
 // lone ring would.
 template <std::size_t Lanes>
-RIVULET_INLINE void smooth_cyclic_body(std::span<float> r, std::size_t u, int iterations, std::span<float> tmp) {
+RIVULET_INLINE void smooth_cyclic_body(std::span<float> r, std::size_t u, int iterations,
+                                       std::span<float> tmp) {
     if (u < 3) return;
     // Ping-pong between r and tmp; the wrap-around ends are done apart so the middle loop vectorizes.
     float* src = r.data();

@@ -27,7 +27,8 @@ RIVULET_INLINE void load_ring(const float* v, std::uint32_t first, std::uint32_t
     r.x[u] = r.x[0], r.y[u] = r.y[0], r.z[u] = r.z[0];
 }
 
-RIVULET_INLINE void cross_into(float ax, float ay, float az, float bx, float by, float bz, float& nx, float& ny, float& nz) {
+RIVULET_INLINE void cross_into(float ax, float ay, float az, float bx, float by, float bz, float& nx,
+                               float& ny, float& nz) {
     nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
 }
 
@@ -35,8 +36,7 @@ RIVULET_INLINE void cross_into(float ax, float ay, float az, float bx, float by,
 // does (write_cylinder_indices): t1 = (a_k, b_k1, b_k), t2 = (a_k, a_k1, b_k1). Adds each face normal
 // (edge cross product, so area-weighted) to its three corners' sums.
 // Always inlined: each call site then knows its four arrays are distinct, and the loops vectorize.
-RIVULET_INLINE void add_band(std::uint32_t u, const Ring& a, const Ring& b, Normals& na,
-                                            Normals& nb) {
+RIVULET_INLINE void add_band(std::uint32_t u, const Ring& a, const Ring& b, Normals& na, Normals& nb) {
     std::array<float, kMaxRingVertices + 1> sx, sy, sz, tx, ty, tz;  // t1 and t1 + t2 per quad
     for (std::uint32_t k = 0; k < u; ++k) {
         const float d1x = b.x[k + 1] - a.x[k], d1y = b.y[k + 1] - a.y[k], d1z = b.z[k + 1] - a.z[k];
@@ -62,8 +62,8 @@ RIVULET_INLINE void add_band(std::uint32_t u, const Ring& a, const Ring& b, Norm
 
 // Cap fan from `pole` over ring r: triangles (pole, r_k1, r_k) on top, (pole, r_k, r_k1) at the bottom.
 // Adds to the ring's sums and returns the pole's sum in (px, py, pz).
-RIVULET_INLINE void add_cap(std::uint32_t u, const float* pole, const Ring& r, bool top, Normals& nr, float& px, float& py,
-             float& pz) {
+RIVULET_INLINE void add_cap(std::uint32_t u, const float* pole, const Ring& r, bool top, Normals& nr,
+                            float& px, float& py, float& pz) {
     px = py = pz = 0.0f;
     for (std::uint32_t k = 0; k < u; ++k) {
         const float ax = r.x[k] - pole[0], ay = r.y[k] - pole[1], az = r.z[k] - pole[2];
@@ -100,15 +100,17 @@ RIVULET_INLINE void store_normal(float* vertex, float nx, float ny, float nz) {
 RIVULET_INLINE void store_ring(float* v, const CylinderLayout& layout, std::uint32_t ring, Normals& n) {
     for (std::uint32_t k = 0; k < layout.u; ++k) unit_normal(n.x[k], n.y[k], n.z[k]);
     float* out = v + std::size_t(layout.side_vertex(ring, 0)) * 6;
-    for (std::uint32_t k = 0; k < layout.u; ++k) out[k * 6 + 3] = n.x[k], out[k * 6 + 4] = n.y[k], out[k * 6 + 5] = n.z[k];
+    for (std::uint32_t k = 0; k < layout.u; ++k)
+        out[k * 6 + 3] = n.x[k], out[k * 6 + 4] = n.y[k], out[k * 6 + 5] = n.z[k];
 }
 
 RIVULET_INLINE void clear(Normals& n, std::uint32_t u) {
     for (std::uint32_t k = 0; k < u; ++k) n.x[k] = n.y[k] = n.z[k] = 0.0f;
 }
 
-RIVULET_INLINE void cylinder_normals_body(const CylinderLayout& layout, std::uint32_t vmin, std::uint32_t vmax,
-                                          std::uint32_t first, std::uint32_t last, std::span<float> vertices) {
+RIVULET_INLINE void cylinder_normals_body(const CylinderLayout& layout, std::uint32_t vmin,
+                                          std::uint32_t vmax, std::uint32_t first, std::uint32_t last,
+                                          std::span<float> vertices) {
     float* v = vertices.data();
     const std::uint32_t u = layout.u;
     // Rolling window of two rings: ring b's sums start with band b-1 (or the top cap) and are complete

@@ -82,7 +82,8 @@ void deform_cylinder(ConstPositions p, std::span<const std::uint32_t> ring,
             const std::uint32_t v = ring[begin];
             std::size_t end = begin;
             while (end < ring.size() && ring[end] == v) ++end;
-            frames[lanes] = ring_circles(p, particle, begin, end, v, params, ccx.data(), ccz.data(), crho.data());
+            frames[lanes] =
+                ring_circles(p, particle, begin, end, v, params, ccx.data(), ccz.data(), crho.data());
             const auto n = static_cast<std::ptrdiff_t>(end - begin);
             const CirclesView circles{std::span<const float>(ccx).subspan(begin, n),
                                       std::span<const float>(ccz).subspan(begin, n),
@@ -100,7 +101,8 @@ void deform_cylinder(ConstPositions p, std::span<const std::uint32_t> ring,
             smooth_cyclic_rings(std::span<float>(batch.data(), u * kSmoothLanes), u,
                                 params.section.smoothing_iterations, batch_tmp);
         }
-        for (std::size_t j = 0; j < lanes; ++j) write_ring(frames[j], batch.data(), j, vmin, vmax, params, vertices);
+        for (std::size_t j = 0; j < lanes; ++j)
+            write_ring(frames[j], batch.data(), j, vmin, vmax, params, vertices);
     }
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -105,4 +106,44 @@ TEST(BinSort, SpheresOutsideTheDomainOrBetweenPlanesLandNowhere) {
     EXPECT_EQ(first, 1u);
     EXPECT_EQ(last, 1u);
     EXPECT_FALSE(grid.span_of(std::nanf(""), first, last));
+}
+
+TEST(BinSort, CountPassRangesMatchSpanOfAndAbsurdHeightsLandNowhere) {
+    const BinGrid grid{1.0f, 0.1f, 11, 0.07f};
+    std::vector<float> y = {1e30f,
+                            -1e30f,
+                            std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(),
+                            std::nanf(""),
+                            1.07f,
+                            -0.07f,
+                            0.5f};
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> height(-0.3f, 1.3f);
+    for (int i = 0; i < 1000; ++i) y.push_back(height(rng));
+    std::vector<std::uint32_t> counts(grid.bins), first(y.size()), end(y.size());
+    bin_count_chunk(grid, y, counts, {first, end});
+    std::vector<std::uint32_t> expected(grid.bins);
+    for (std::size_t i = 0; i < y.size(); ++i) {
+        std::uint32_t lo = 0, hi = 0;
+        if (!grid.span_of(y[i], lo, hi)) {
+            EXPECT_EQ(first[i], end[i]) << "y " << y[i];
+            continue;
+        }
+        // The plane test itself, in double: every plane in the range is within the radius, and its
+        // neighbours outside it are not.
+        for (std::uint32_t b = lo; b <= hi; ++b)
+            EXPECT_LE(std::abs(double(y[i]) - grid.plane_y(b)), grid.radius + 1e-6);
+        if (lo > 0) {
+            EXPECT_GT(std::abs(double(y[i]) - grid.plane_y(lo - 1)), grid.radius - 1e-6);
+        }
+        if (hi + 1 < grid.bins) {
+            EXPECT_GT(std::abs(double(y[i]) - grid.plane_y(hi + 1)), grid.radius - 1e-6);
+        }
+        EXPECT_EQ(first[i], lo);
+        EXPECT_EQ(end[i], hi + 1);
+        for (std::uint32_t b = lo; b <= hi; ++b) ++expected[b];
+    }
+    for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(end[i], 0u) << "absurd height " << y[i];
+    EXPECT_EQ(counts, expected);
 }

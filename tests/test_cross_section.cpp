@@ -187,7 +187,8 @@ TEST(CrossSection, InterleavedRingSmoothingGivesEachRingTheBytesOfItsOwnSmoothin
         for (std::size_t j = 0; j < kSmoothLanes; ++j) {
             smooth_cyclic(rings[j], 10, ring_tmp);
             for (std::size_t k = 0; k < u; ++k)
-                ASSERT_EQ(interleaved[k * kSmoothLanes + j], rings[j][k]) << "u " << u << " ring " << j << " k " << k;
+                ASSERT_EQ(interleaved[k * kSmoothLanes + j], rings[j][k])
+                    << "u " << u << " ring " << j << " k " << k;
         }
     }
 }
