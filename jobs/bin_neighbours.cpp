@@ -43,7 +43,10 @@ std::size_t table_base(BinTableView bins, std::uint32_t b) {
     return 4u * std::size_t(bins.offsets[b]) + 2u * b;
 }
 
-constexpr std::uint32_t kProbe = 16;  // leading entries of a large bin scanned before its buckets
+// Once a bin's long probe has failed (its hash exists), its later queries probe only this many leading
+// entries before the buckets: in a bin crossed by many streams (a fountain's arcs) most queries would
+// fail the long probe too.
+constexpr std::uint32_t kShortProbe = 16;
 
 struct Query {
     simd::F4 x, y, z, eps2;
@@ -169,11 +172,13 @@ std::uint32_t first_in_bucket(const std::uint32_t* items, const float* hx, const
 
 // First entry of the bin at a position below `limit` within eps of q; global entry index or kNoNeighbour.
 // In a coherent stream the answer is usually among the bin's first entries: try them in order first.
+// Every path returns the same entry; the probe lengths only decide how fast.
 [[gnu::always_inline]] inline std::uint32_t first_within(BinTableView bins, const BinEntries& bin,
                                                          std::uint32_t limit, const Query& q, float eps,
                                                          float inv_cell, LazyHash& lazy,
                                                          std::uint32_t linear_scan_max) {
-    const std::uint32_t probe = std::min(limit, linear_scan_max);
+    const std::uint32_t probe =
+        std::min(limit, lazy.built ? std::min(kShortProbe, linear_scan_max) : linear_scan_max);
     if (const std::uint32_t hit = first_near(bin.ex, bin.ey, bin.ez, probe, q); hit != probe)
         return bin.base + hit;
     if (probe == limit) return kNoNeighbour;

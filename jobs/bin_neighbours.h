@@ -8,7 +8,9 @@
 // coherent stream that settles almost every query, and a bin no larger than that is only ever scanned.
 // Past it, the bin gets a 2D hash of cells 2 eps wide (an eps-disc touches at most 2x2 cells) whose
 // buckets keep their entries' positions contiguous and in bin order, so a query scans at most four short
-// runs and stops at a bucket's first hit. The hash is built lazily, by the one job that needs it: the
+// runs and stops at a bucket's first hit. Once a bin has its hash, its later queries probe only a few
+// leading entries: a bin crossed by many streams (a fountain's arcs) fails long probes again and again.
+// The hash is built lazily, by the one job that needs it: the
 // job of bin b builds bin b's table in `own` and its own copy of bin b-1's table in `above`, so jobs
 // share nothing they write and there is no separate hashing pass. The same answer every way.
 #include <cstdint>
