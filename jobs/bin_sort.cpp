@@ -70,20 +70,6 @@ void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<st
         for (std::uint32_t b = spans.first[i]; b < spans.end[i]; ++b) ++counts[b];
 }
 
-std::uint32_t bin_prefix(std::uint32_t bins, std::uint32_t chunks, std::span<const std::uint32_t> counts,
-                         std::span<std::uint32_t> cursors, std::span<std::uint32_t> offsets) {
-    std::uint32_t running = 0;
-    for (std::uint32_t b = 0; b < bins; ++b) {
-        offsets[b] = running;
-        for (std::uint32_t c = 0; c < chunks; ++c) {
-            cursors[std::size_t(c) * bins + b] = running;
-            running += counts[std::size_t(c) * bins + b];
-        }
-    }
-    offsets[bins] = running;
-    return running;
-}
-
 void bin_scatter_chunk(ConstPositions p, std::uint32_t first_index, const ParticleBins& spans,
                        std::span<std::uint32_t> cursors, const BinEntriesOut& out) {
     for (std::uint32_t i = 0; i < p.size(); ++i) {

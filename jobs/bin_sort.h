@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <span>
 
+#include "jobs/chunk_prefix.h"
+
 #include "jobs/particle_spans.h"
 
 namespace rivulet {
@@ -50,8 +52,11 @@ void bin_count_chunk(const BinGrid& grid, std::span<const float> y, std::span<st
 
 // Between the passes, once: turns per-chunk counts (chunk-major: counts[c * bins + b]) into per-chunk
 // write cursors (same layout) and the bin offsets (bins + 1). Returns the total entry count.
-std::uint32_t bin_prefix(std::uint32_t bins, std::uint32_t chunks, std::span<const std::uint32_t> counts,
-                         std::span<std::uint32_t> cursors, std::span<std::uint32_t> offsets);
+inline std::uint32_t bin_prefix(std::uint32_t bins, std::uint32_t chunks,
+                                std::span<const std::uint32_t> counts, std::span<std::uint32_t> cursors,
+                                std::span<std::uint32_t> offsets) {
+    return chunk_major_prefix(bins, chunks, bins, counts, cursors, offsets);
+}
 
 struct BinEntriesOut {
     std::span<std::uint32_t> entries;

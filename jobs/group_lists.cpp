@@ -17,20 +17,6 @@ std::uint32_t count_group_entries(BinTableView bins, std::uint32_t first_bin, st
     return isolated;
 }
 
-void group_list_offsets(std::uint32_t groups, std::uint32_t chunks, std::uint32_t row,
-                        std::span<const std::uint32_t> counts, std::span<std::uint32_t> cursors,
-                        std::span<std::uint32_t> offsets) {
-    std::uint32_t running = 0;
-    for (std::uint32_t g = 0; g < groups; ++g) {
-        offsets[g] = running;
-        for (std::uint32_t c = 0; c < chunks; ++c) {
-            cursors[std::size_t(c) * row + g] = running;
-            running += counts[std::size_t(c) * row + g];
-        }
-    }
-    offsets[groups] = running;
-}
-
 void scatter_group_entries(BinTableView bins, std::uint32_t first_bin, std::uint32_t end_bin,
                            std::span<const std::int32_t> entry_group, std::span<std::uint32_t> cursors,
                            const GroupListsOut& out) {

@@ -8,6 +8,7 @@
 #include <span>
 
 #include "jobs/bin_sort.h"
+#include "jobs/chunk_prefix.h"
 
 namespace rivulet {
 
@@ -16,13 +17,10 @@ namespace rivulet {
 std::uint32_t count_group_entries(BinTableView bins, std::uint32_t first_bin, std::uint32_t end_bin,
                                   std::span<const std::int32_t> entry_group, std::span<std::uint32_t> counts);
 
-// Once: per-chunk counts (chunk-major rows of `row` >= groups words: counts[c * row + g]) to per-chunk
-// cursors (same layout) and the lists' offsets (groups + 1). Each chunk's job increments its own row once
-// per entry, so rows should start on separate cache lines (kGroupRowAlign words).
+// Between the passes, once: chunk_major_prefix (chunk_prefix.h) over groups. Each chunk's job increments
+// its own row of counts once per entry, so rows should start on separate cache lines: rows of a multiple
+// of kGroupRowAlign words.
 inline constexpr std::uint32_t kGroupRowAlign = 16;
-void group_list_offsets(std::uint32_t groups, std::uint32_t chunks, std::uint32_t row,
-                        std::span<const std::uint32_t> counts, std::span<std::uint32_t> cursors,
-                        std::span<std::uint32_t> offsets);
 
 struct GroupListsOut {
     std::span<std::uint32_t> bin;       // per list slot: its bin (= cylinder ring)

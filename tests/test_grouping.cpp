@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 
+#include "jobs/chunk_prefix.h"
 #include "jobs/group_lists.h"
 #include "support/scan_fixtures.h"
 
@@ -192,7 +193,7 @@ Lists group_lists_in_chunks(const Bins& bins, const std::vector<std::int32_t>& e
                             std::span(counts).subspan(std::size_t(c) * groups, groups));
     Lists l{std::vector<std::uint32_t>(groups + 1), std::vector<std::uint32_t>(eg.size()),
             std::vector<std::uint32_t>(eg.size()), std::vector<std::uint8_t>(particles)};
-    group_list_offsets(groups, chunks, groups, counts, cursors, l.offsets);
+    chunk_major_prefix(groups, chunks, groups, counts, cursors, l.offsets);
     for (std::uint32_t c = chunks; c-- > 0;)  // any order: each chunk has its own cursors
         scatter_group_entries(bins.view(), c * chunk_bins, std::min(nbins, (c + 1) * chunk_bins), eg,
                               std::span(cursors).subspan(std::size_t(c) * groups, groups),

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "jobs/chunk_prefix.h"
 #include "jobs/cylinder_normals.h"
 #include "jobs/group_lists.h"
 #include "jobs/isolated_particles.h"
@@ -170,7 +171,7 @@ void ScanConverter::spread(std::uint32_t bin_chunk) {
 void ScanConverter::list_offsets() {
     const std::uint32_t groups = grouping_.groups, chunks = bin_chunks();
     const std::uint32_t row = group_row();
-    group_list_offsets(groups, chunks, row, chunk_group_counts_.span(std::size_t(chunks) * row),
+    chunk_major_prefix(groups, chunks, row, chunk_group_counts_.span(std::size_t(chunks) * row),
                        chunk_group_cursors_.span(std::size_t(chunks) * row), list_offsets_.span(groups + 1));
     grouping_.isolated_entries = 0;
     for (std::uint32_t c = 0; c < chunks; ++c) grouping_.isolated_entries += chunk_isolated_[c];
