@@ -85,7 +85,7 @@ RIVULET_INLINE void add_cap(std::uint32_t u, const float* pole, const Ring& r, b
 RIVULET_INLINE void unit_normal(float& nx, float& ny, float& nz) {
     const float len = std::sqrt(nx * nx + ny * ny + nz * nz);
     const bool defined = len > 1e-20f;
-    const float inv = 1.0f / len;
+    const float inv = 1.0f / (defined ? len : 1.0f);  // no division by zero in the lanes not taken
     nx = defined ? nx * inv : 0.0f;
     ny = defined ? ny * inv : 1.0f;
     nz = defined ? nz * inv : 0.0f;
