@@ -10,7 +10,6 @@
 #include <span>
 
 #include "jobs/chunk_prefix.h"
-
 #include "jobs/particle_spans.h"
 
 namespace rivulet {

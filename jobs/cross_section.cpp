@@ -112,14 +112,4 @@ void gaussian_blend(CirclesView c, AngleTable a, float tension, std::span<float>
     }
 }
 
-void radial_function(const CrossSectionParams& p, CirclesView c, AngleTable a, std::span<float> r,
-                     std::span<float> tmp) {
-    if (p.function == RadialFunction::kGaussianBlend) {
-        gaussian_blend(c, a, p.tension, r, tmp);
-    } else {
-        circle_maxima(c, a, r);
-        smooth_cyclic(r, p.smoothing_iterations, tmp);
-    }
-}
-
 }  // namespace rivulet

@@ -48,8 +48,4 @@ void smooth_cyclic_rings(std::span<float> r, std::size_t u, int iterations, std:
 void gaussian_blend(CirclesView circles, AngleTable angles, float tension, std::span<float> r,
                     std::span<float> alpha);
 
-// The configured function (maxima + smoothing, or blend); `tmp` as large as r.
-void radial_function(const CrossSectionParams& params, CirclesView circles, AngleTable angles,
-                     std::span<float> r, std::span<float> tmp);
-
 }  // namespace rivulet
