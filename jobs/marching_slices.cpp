@@ -26,9 +26,12 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     std::uint32_t gen = ++*s.generation;
     if (gen == 0) {  // stamps wrapped: clear them once
         std::fill(s.cube_stamp.begin(), s.cube_stamp.end(), 0u);
-        std::fill(s.edges.begin(), s.edges.end(), EdgeSlot{0, 0});
+        std::fill(s.edges.begin(), s.edges.end(), 0u);  // generation 1 restarts the tags mid-cycle
         gen = *s.generation = 1;
     }
+    const std::uint32_t tag = edge_tag(gen);
+    if (tag == 1) std::fill(s.edges.begin(), s.edges.end(), 0u);  // a new cycle of edge tags
+    const std::uint32_t live_tag = tag << kEdgeVertexBits, vertex_bits = (1u << kEdgeVertexBits) - 1;
 
     // World z of each slice, for corner and column evaluations (padded: column runs read up to four).
     std::array<float, kMaxBlockCubes + 4> column_z{};
@@ -45,20 +48,34 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     };
 
     // ---- per-slab todo lists ----
-    std::fill(s.todo_count.begin(), s.todo_count.end(), 0u);
-    std::uint32_t lowest = n;  // lowest slab that may hold work
-    auto push = [&](std::int32_t i, std::int32_t j, std::int32_t k) {
-        if (i < 0 || j < 0 || k < 0 || i >= std::int32_t(n) || j >= std::int32_t(n) || k >= std::int32_t(n))
-            return;
-        const std::uint32_t slab = static_cast<std::uint32_t>(k);
-        const std::uint32_t in_slab = static_cast<std::uint32_t>(j) * n + static_cast<std::uint32_t>(i);
-        const std::uint32_t c = slab * n * n + in_slab;
-        if (s.cube_stamp[c] == gen) return;
-        s.cube_stamp[c] = gen;
+    // Cube (i, j, k) has stamp (k+1, j+1, i+1) in the bordered array; slab k's list is todo row k + 1,
+    // whose count is count[k + 1]. Queueing is branch-free: the entry is always written at the list's
+    // end (one spare slot per row) and kept only when the cube is in the block and new.
+    const std::uint32_t p1 = n + 2, slab_cap = n * n + 1;
+    std::uint32_t* const stamp = s.cube_stamp.data();
+    std::uint32_t* const todo = s.todo.data();
+    std::uint32_t* const count = s.todo_count.data();
+    std::fill(count, count + p1, 0u);
+    std::int32_t lowest = static_cast<std::int32_t>(n);  // lowest slab that may hold work
+    // Stamps cube `at` (bordered index) when `take` and it is not stamped yet; 1 when it was new.
+    auto claim = [&](std::uint32_t at, bool take) {
+        const std::uint32_t old = stamp[at];
+        const bool fresh = take && old != gen;
+        stamp[at] = fresh ? gen : old;
+        return fresh ? 1u : 0u;
+    };
+    auto push = [&](std::int32_t i, std::int32_t j, std::int32_t k) {  // i, j, k in [-1, n]
+        const std::uint32_t row = static_cast<std::uint32_t>(k + 1);
+        const std::uint32_t at =
+            (row * p1 + static_cast<std::uint32_t>(j + 1)) * p1 + static_cast<std::uint32_t>(i + 1);
+        const bool in_block = static_cast<std::uint32_t>(i) < n && static_cast<std::uint32_t>(j) < n &&
+                              static_cast<std::uint32_t>(k) < n;
+        const std::uint32_t fresh = claim(at, in_block);
         // Queued as j << 8 | i (n <= 128): unpacking needs no division by the runtime n.
-        s.todo[std::size_t(slab) * n * n + s.todo_count[slab]++] =
-            static_cast<std::uint32_t>(j) << 8 | static_cast<std::uint32_t>(i);
-        lowest = std::min(lowest, slab);
+        todo[row * slab_cap + count[row]] =
+            static_cast<std::uint32_t>(j) << 8 | static_cast<std::uint32_t>(i & 0xff);
+        count[row] += fresh;
+        lowest = fresh && k < lowest ? k : lowest;
     };
 
     // ---- seeds 1: walk down from each particle's nearest corner ----
@@ -134,45 +151,85 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             }
 
     // ---- seeds 2: every block face the surface can cross ----
-    // s.faces[w * n1 + u] = 1 where F >= iso on face (a, side), else 0; u and w are the next two axes
-    // after a. The x and y faces are made of whole z columns, evaluated a column at a time.
+    // Corners a particle can reach: its cell c reaches corner planes [c - reach, c + reach + 1] on each
+    // axis, so the block's particles bound the corners where F can be non-zero; elsewhere F = 0 < iso.
+    std::int32_t near_lo[3] = {std::int32_t(n1), std::int32_t(n1), std::int32_t(n1)},
+                 near_hi[3] = {-1, -1, -1};
+    for (std::size_t q = 0; q < particles.size(); ++q) {
+        const std::int32_t c[3] = {SliceGrid::cell(particles.x[q], g.ox, g.voxel) - i0,
+                                   SliceGrid::cell(particles.y[q], g.oy, g.voxel) - j0,
+                                   SliceGrid::cell(particles.z[q], g.oz, g.voxel) - k0};
+        for (int a = 0; a < 3; ++a)
+            near_lo[a] = std::min(near_lo[a], c[a] - g.reach),
+            near_hi[a] = std::max(near_hi[a], c[a] + g.reach + 1);
+    }
+    for (int a = 0; a < 3; ++a)
+        near_lo[a] = std::max(near_lo[a], 0), near_hi[a] = std::min(near_hi[a], std::int32_t(n));
+    // Face (a, side) as bit rows: bit u of row w is set where F >= iso (u, w the next two axes after a),
+    // `words` 64-bit words per row plus a zero word, so a row shifted by one bit reads its neighbour.
+    const std::uint32_t words = (n1 + 63) / 64, stride = words + 1;
+    std::uint64_t* const bits = s.face_bits.data();
     std::array<float, kMaxBlockCubes + 1> column_f{};
+    auto set_bit = [&](std::uint32_t row, std::uint32_t bit) {
+        bits[row * stride + bit / 64] |= std::uint64_t(1) << (bit % 64);
+    };
     auto fill_face = [&](std::uint32_t a, std::uint32_t side) {
+        std::fill(bits, bits + std::size_t(n1) * stride, std::uint64_t(0));
+        const std::uint32_t plane = side * n;
         if (a == 2) {
-            for (std::uint32_t j = 0; j <= n; ++j)
-                for (std::uint32_t i = 0; i <= n; ++i)
-                    s.faces[j * n1 + i] = corner(i, j, side * n) >= iso ? 1.0f : 0.0f;
+            for (std::int32_t j = near_lo[1]; j <= near_hi[1]; ++j)
+                for (std::int32_t i = near_lo[0]; i <= near_hi[0]; ++i)
+                    if (corner(std::uint32_t(i), std::uint32_t(j), plane) >= iso)
+                        set_bit(std::uint32_t(j), std::uint32_t(i));
             return;
         }
-        for (std::uint32_t t = 0; t <= n; ++t) {
-            const std::uint32_t i = a == 0 ? side * n : t, j = a == 0 ? t : side * n;
-            cache_column(cache, n, i, j, 0, static_cast<std::int32_t>(n), column_z.data(), f,
-                         column_f.data());
+        // The x and y faces are made of whole z columns, evaluated a column at a time.
+        const std::int32_t k_lo = near_lo[2], k_hi = near_hi[2];
+        for (std::int32_t t = near_lo[a == 0 ? 1 : 0]; t <= near_hi[a == 0 ? 1 : 0]; ++t) {
+            const std::uint32_t ut = static_cast<std::uint32_t>(t);
+            const std::uint32_t i = a == 0 ? plane : ut, j = a == 0 ? ut : plane;
+            cache_column(cache, n, i, j, k_lo, k_hi, column_z.data() + k_lo, f, column_f.data());
             // a = 0: u = y (t), w = z; a = 1: u = z, w = x (t).
-            for (std::uint32_t k = 0; k <= n; ++k)
-                s.faces[a == 0 ? k * n1 + t : t * n1 + k] = column_f[k] >= iso ? 1.0f : 0.0f;
+            for (std::int32_t k = k_lo; k <= k_hi; ++k)
+                if (column_f[std::size_t(k - k_lo)] >= iso) {
+                    if (a == 0)
+                        set_bit(std::uint32_t(k), ut);
+                    else
+                        set_bit(ut, std::uint32_t(k));
+                }
         }
     };
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};
+    const std::uint64_t last_cells = (n % 64) ? (std::uint64_t(1) << (n % 64)) - 1 : ~std::uint64_t(0);
     for (std::uint32_t a = 0; a < 3; ++a)
         for (std::uint32_t side = 0; side < 2; ++side) {
             if (side == 0 && bidx[a] == 0) continue;                // outer grid face: no surface there
             if (side == 1 && bidx[a] + 1 == nb[a]) continue;        // likewise
             if (empty_neighbours >> (2 * a + side) & 1u) continue;  // F = 0 on the whole face
+            const std::int32_t plane = static_cast<std::int32_t>(side * n);
+            if (plane < near_lo[a] || plane > near_hi[a]) continue;  // no particle reaches it: F = 0
             const std::uint32_t u = (a + 1) % 3, w = (a + 2) % 3;
             fill_face(a, side);
-            for (std::uint32_t cw = 0; cw < n; ++cw)
-                for (std::uint32_t cu = 0; cu < n; ++cu) {
-                    const bool i00 = s.faces[cw * n1 + cu] != 0.0f, i10 = s.faces[cw * n1 + cu + 1] != 0.0f,
-                               i01 = s.faces[(cw + 1) * n1 + cu] != 0.0f,
-                               i11 = s.faces[(cw + 1) * n1 + cu + 1] != 0.0f;
-                    if (i00 == i10 && i00 == i01 && i00 == i11) continue;
-                    std::int32_t cube[3];
-                    cube[a] = side ? std::int32_t(n) - 1 : 0;
-                    cube[u] = std::int32_t(cu), cube[w] = std::int32_t(cw);
-                    push(cube[0], cube[1], cube[2]);
-                    ++st.seeds;
+            // A face cell is crossed when its four corners (bits u, u + 1 of rows w, w + 1) differ.
+            for (std::uint32_t cw = 0; cw < n; ++cw) {
+                const std::uint64_t* r0 = bits + cw * stride;
+                const std::uint64_t* r1 = r0 + stride;
+                for (std::uint32_t t = 0; t < words && t * 64 < n; ++t) {
+                    const std::uint64_t a0 = r0[t], a1 = r0[t] >> 1 | r0[t + 1] << 63;
+                    const std::uint64_t b0 = r1[t], b1 = r1[t] >> 1 | r1[t + 1] << 63;
+                    std::uint64_t crossed = (a0 | a1 | b0 | b1) & ~(a0 & a1 & b0 & b1);
+                    if ((t + 1) * 64 >= n) crossed &= last_cells;  // cells u < n only
+                    for (; crossed != 0; crossed &= crossed - 1) {
+                        const std::uint32_t cu =
+                            t * 64 + static_cast<std::uint32_t>(__builtin_ctzll(crossed));
+                        std::int32_t cube[3];
+                        cube[a] = side ? std::int32_t(n) - 1 : 0;
+                        cube[u] = std::int32_t(cu), cube[w] = std::int32_t(cw);
+                        push(cube[0], cube[1], cube[2]);
+                        ++st.seeds;
+                    }
                 }
+            }
         }
 
     // ---- slice caches ----
@@ -205,19 +262,26 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     const std::uint32_t max_vertices =
         static_cast<std::uint32_t>(std::min(out.positions.size() / 3, out.keys.size()));
     const std::uint32_t max_triangles = static_cast<std::uint32_t>(out.triangles.size() / 3);
+    // Cube-relative offsets of the 12 edges' slots.
+    std::uint32_t edge_offset[12];
+    for (std::uint32_t e = 0; e < 12; ++e) {
+        const std::uint32_t lc = mt.edge_corner[e][0];
+        edge_offset[e] =
+            (((lc >> 2) & 1u) * n1 * n1 + ((lc >> 1) & 1u) * n1 + (lc & 1u)) * 3 + mt.edge_axis[e];
+    }
+    const std::int32_t top = static_cast<std::int32_t>(n);
     for (;;) {
-        while (lowest < n && s.todo_count[lowest] == 0) ++lowest;
-        if (lowest == n) break;
-        const std::uint32_t k = lowest;
+        while (lowest < top && count[lowest + 1] == 0) ++lowest;
+        if (lowest >= top) break;
+        const std::uint32_t k = static_cast<std::uint32_t>(lowest);
         release_below(k);
-        const std::uint32_t queued = s.todo[std::size_t(k) * n * n + --s.todo_count[k]];
+        const std::uint32_t queued = todo[(k + 1) * slab_cap + --count[k + 1]];
         const std::uint32_t i = queued & 0xffu, j = queued >> 8;
         ++st.cubes;
 
         float* lower = slice(k);
         float* upper = slice(k + 1);
         float v[8];
-        unsigned mask = 0;
         for (unsigned c = 0; c < 4; ++c) {  // corner c below, c + 4 above
             const std::uint32_t ci = i + (c & 1u), cj = j + ((c >> 1) & 1u), at = cj * n1 + ci;
             if (lower[at] < 0.0f || upper[at] < 0.0f) {
@@ -232,50 +296,66 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             }
             v[c] = lower[at], v[c + 4] = upper[at];
         }
-        for (unsigned c = 0; c < 8; ++c)
-            if (v[c] >= iso) mask |= 1u << c;
+        unsigned mask = 0;
+        for (unsigned c = 0; c < 8; ++c) mask |= (v[c] >= iso ? 1u : 0u) << c;
         const std::uint32_t ntri = mt.triangle_count[mask];
         if (st.triangles + ntri > max_triangles) {
             st.overflow = true;
             return st;
         }
-        for (std::uint32_t t = 0; t < ntri * 3; ++t) {
-            const std::uint32_t e = static_cast<std::uint32_t>(mt.triangles[mask][t]);
-            const std::uint32_t axis = mt.edge_axis[e], lc = mt.edge_corner[e][0], hc = mt.edge_corner[e][1];
-            const std::uint32_t li = i + (lc & 1u), lj = j + ((lc >> 1) & 1u), lk = k + ((lc >> 2) & 1u);
-            const std::size_t ek = ((std::size_t(lk) * n1 + lj) * n1 + li) * 3 + axis;
-            std::uint32_t vid;
-            EdgeSlot& slot = s.edges[ek];
-            if (slot.stamp == gen) {
-                vid = slot.vertex;
-            } else {
-                if (st.vertices == max_vertices) {
-                    st.overflow = true;
-                    return st;
-                }
-                vid = st.vertices++;
-                slot = {gen, vid};
-                const std::int32_t gi = i0 + std::int32_t(li), gj = j0 + std::int32_t(lj),
-                                   gk = k0 + std::int32_t(lk);
-                float p[3] = {g.cx(gi), g.cy(gj), g.cz(gk)};
-                p[axis] = edge_crossing(p[axis], g.voxel, v[lc], v[hc], iso);
-                out.positions[std::size_t(vid) * 3 + 0] = p[0];
-                out.positions[std::size_t(vid) * 3 + 1] = p[1];
-                out.positions[std::size_t(vid) * 3 + 2] = p[2];
-                out.keys[vid] = edge_key(static_cast<std::uint32_t>(gi), static_cast<std::uint32_t>(gj),
-                                         static_cast<std::uint32_t>(gk), axis);
+        const std::size_t base = ((std::size_t(k) * n1 + j) * n1 + i) * 3;
+        std::uint32_t vid[12];
+        for (std::uint32_t q = 0; q < mt.edge_count[mask]; ++q) {
+            const auto e = static_cast<std::uint32_t>(mt.edge_order[mask][q]);
+            std::uint32_t& slot = s.edges[base + edge_offset[e]];
+            if ((slot & ~vertex_bits) == live_tag) {
+                vid[e] = slot & vertex_bits;
+                continue;
             }
-            out.triangles[std::size_t(st.triangles) * 3 + t] = vid;
+            if (st.vertices == max_vertices) {
+                st.overflow = true;
+                return st;
+            }
+            const std::uint32_t id = st.vertices++;
+            slot = live_tag | id;
+            vid[e] = id;
+            const std::uint32_t axis = mt.edge_axis[e], lc = mt.edge_corner[e][0], hc = mt.edge_corner[e][1];
+            const std::int32_t gi = i0 + std::int32_t(i + (lc & 1u)),
+                               gj = j0 + std::int32_t(j + ((lc >> 1) & 1u)),
+                               gk = k0 + std::int32_t(k + ((lc >> 2) & 1u));
+            float p[3] = {g.cx(gi), g.cy(gj), g.cz(gk)};
+            p[axis] = edge_crossing(p[axis], g.voxel, v[lc], v[hc], iso);
+            out.positions[std::size_t(id) * 3 + 0] = p[0];
+            out.positions[std::size_t(id) * 3 + 1] = p[1];
+            out.positions[std::size_t(id) * 3 + 2] = p[2];
+            out.keys[id] = edge_key(static_cast<std::uint32_t>(gi), static_cast<std::uint32_t>(gj),
+                                    static_cast<std::uint32_t>(gk), axis);
         }
+        std::uint32_t* tri = out.triangles.data() + std::size_t(st.triangles) * 3;
+        for (std::uint32_t t = 0; t < ntri * 3; ++t)
+            tri[t] = vid[static_cast<std::uint32_t>(mt.triangles[mask][t])];
         st.triangles += ntri;
-        // Follow the surface across every face it crosses.
-        for (std::uint32_t face = 0; face < 6; ++face) {
-            const unsigned fm = mt.face_corners[face], m = mask & fm;
-            if (m == 0 || m == fm) continue;
-            std::int32_t c[3] = {std::int32_t(i), std::int32_t(j), std::int32_t(k)};
-            c[face / 2] += (face & 1u) ? 1 : -1;
-            push(c[0], c[1], c[2]);
-        }
+        // Follow the surface across every face it crosses, queueing neighbours in the order -x, +x, -y,
+        // +y (this slab), -z (the slab below), +z (above); the same lists as six push calls, with the
+        // slab's count updated once.
+        const unsigned crossed = mt.crossed_faces[mask];
+        const std::uint32_t row = k + 1, at = (row * p1 + j + 1) * p1 + i + 1, layer = p1 * p1;
+        const std::uint32_t mx = claim(at - 1, (crossed & 1u) && i > 0),
+                            px = claim(at + 1, (crossed & 2u) && i + 1 < n),
+                            my = claim(at - p1, (crossed & 4u) && j > 0),
+                            py = claim(at + p1, (crossed & 8u) && j + 1 < n),
+                            mz = claim(at - layer, (crossed & 16u) && k > 0),
+                            pz = claim(at + layer, (crossed & 32u) && k + 1 < n);
+        std::uint32_t* list = todo + row * slab_cap;
+        std::uint32_t c = count[row];
+        list[c] = j << 8 | ((i - 1) & 0xffu), c += mx;  // i - 1 wraps when i = 0: written, not kept
+        list[c] = j << 8 | (i + 1), c += px;
+        list[c] = (j - 1) << 8 | i, c += my;
+        list[c] = (j + 1) << 8 | i, c += py;
+        count[row] = c;
+        todo[(row - 1) * slab_cap + count[row - 1]] = j << 8 | i, count[row - 1] += mz;
+        todo[(row + 1) * slab_cap + count[row + 1]] = j << 8 | i, count[row + 1] += pz;
+        lowest = mz ? lowest - 1 : lowest;  // lowest == k here
     }
     return st;
 }

@@ -30,22 +30,26 @@
 
 namespace rivulet {
 
-// The block-local vertex on one cube edge, live when stamp equals the sweep's generation (stamp and
-// vertex side by side: one cache line per lookup).
-struct EdgeSlot {
-    std::uint32_t stamp, vertex;
-};
+// The block-local vertex on one cube edge: tag << 24 | vertex, live when tag equals the sweep's edge tag
+// (edge_tag). Four bytes a slot keep the two slice layers a sweep works in within L1 for blocks of 32^3
+// cubes; a block has fewer than 2^24 edges (3 * 129^3 at the largest block size).
+constexpr std::uint32_t kEdgeVertexBits = 24;
+// Tags cycle through 1..255, one per block sweep; the slots are cleared when a cycle starts (tag 1).
+inline std::uint32_t edge_tag(std::uint32_t generation) {
+    return generation % 255u + 1u;
+}
 
-// Scratch of one block sweep, for block edge n (sizes in comments); reusable across blocks.
+// Scratch of one block sweep, for block edge n (sizes in comments); reusable across blocks. Cubes and
+// slabs carry a border of one (index -1 and n) so that queueing a neighbour needs no bounds branch.
 struct SliceScratch {
     std::span<float> slices;                   // (n+1) * (n+1)^2: slice cache pool
     std::span<std::int32_t> slice_slot;        // n+1: pool slot of each slice, -1 when released
     std::span<std::int32_t> free_slots;        // n+1
-    std::span<float> faces;                    // (n+1)^2: one block face at a time
-    std::span<std::uint32_t> cube_stamp;       // n^3
-    std::span<EdgeSlot> edges;                 // 3 (n+1)^3
-    std::span<std::uint32_t> todo;             // n * n^2: per-slab todo lists
-    std::span<std::uint32_t> todo_count;       // n
+    std::span<std::uint64_t> face_bits;        // (n+1) * face_words(n): one block face at a time
+    std::span<std::uint32_t> cube_stamp;       // (n+2)^3, border included
+    std::span<std::uint32_t> edges;            // 3 (n+1)^3
+    std::span<std::uint32_t> todo;             // (n+2) * (n^2+1): per-slab todo lists, border slabs too
+    std::span<std::uint32_t> todo_count;       // n+2
     std::span<std::int32_t> walk_lo, walk_hi;  // (n+1)^2: inside run already walked per column
     std::uint32_t* generation;                 // stamps equal to *generation are live; starts at 0
 };
@@ -64,14 +68,15 @@ struct BlockSweepStats {
 
 // Scratch sizes for block edge n.
 struct SliceScratchSizes {
-    std::size_t slices, slots, faces, cubes, edges, todo, columns;
+    std::size_t slices, slots, face_bits, cubes, edges, todo, slabs, columns;
     explicit SliceScratchSizes(std::uint32_t n)
         : slices(std::size_t(n + 1) * (n + 1) * (n + 1)),
           slots(n + 1),
-          faces(std::size_t(n + 1) * (n + 1)),
-          cubes(std::size_t(n) * n * n),
+          face_bits(std::size_t(n + 1) * ((n + 1 + 63) / 64 + 1)),  // a zero word closes each row
+          cubes(std::size_t(n + 2) * (n + 2) * (n + 2)),
           edges(3 * std::size_t(n + 1) * (n + 1) * (n + 1)),
-          todo(std::size_t(n) * n * n),
+          todo(std::size_t(n + 2) * (std::size_t(n) * n + 1)),
+          slabs(n + 2),
           columns(std::size_t(n + 1) * (n + 1)) {}
 };
 

@@ -104,6 +104,21 @@ struct Builder {
             }
         }
         t.triangle_count[m] = static_cast<std::uint8_t>(count);
+        std::uint16_t named = 0;
+        int order = 0;
+        for (int i = 0; i < count * 3; ++i) {
+            const int e = t.triangles[m][std::size_t(i)];
+            if ((named >> e) & 1) continue;
+            named = static_cast<std::uint16_t>(named | (1u << e));
+            t.edge_order[m][std::size_t(order++)] = static_cast<std::int8_t>(e);
+        }
+        t.edge_count[m] = static_cast<std::uint8_t>(order);
+        std::uint8_t faces = 0;
+        for (int f = 0; f < 6; ++f) {
+            const unsigned fm = t.face_corners[std::size_t(f)], in = unsigned(m) & fm;
+            if (in != 0 && in != fm) faces = static_cast<std::uint8_t>(faces | (1u << f));
+        }
+        t.crossed_faces[m] = faces;
         return true;
     }
 

@@ -1,5 +1,5 @@
 // Marching slices throughput: a cubic lattice block of particles (spacing 2 radii, the default field:
-// R_c = 2 radii, voxel = radius / 2, blocks of 16^3 cubes) meshed through the slices.* frame-graph jobs
+// R_c = 2 radii, voxel = radius / 2, the default block size) meshed through the slices.* frame-graph jobs
 // at 1 and 2 threads. Prints the median wall time of `--repeat` runs (default 5) and the slowest stages.
 //   bench_slices [--repeat K] [--block N] [--voxel-fraction F]
 #include <fmt/format.h>
@@ -28,7 +28,7 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
     int repeat = 5;
-    std::uint32_t block = 16;
+    std::uint32_t block = rivulet::SlicesSettings{}.block_cubes;
     float voxel_fraction = 0.5f;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(argv[i + 1]));

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "jobs/bin_sort.h"
@@ -146,6 +147,22 @@ TEST(MarchingTables, EveryCaseIsAClosedConsistentPatch) {
             const bool a = (m >> t.edge_corner[e][0]) & 1, b = (m >> t.edge_corner[e][1]) & 1;
             EXPECT_EQ(a != b, ((t.edge_mask[m] >> e) & 1) != 0) << m << " edge " << e;
         }
+        // edge_order: every crossed edge once, in the order the triangle list first names it.
+        std::vector<int> first_named;
+        for (int i = 0; i < t.triangle_count[m] * 3; ++i)
+            if (std::find(first_named.begin(), first_named.end(), t.triangles[m][i]) == first_named.end())
+                first_named.push_back(t.triangles[m][i]);
+        ASSERT_EQ(int(t.edge_count[m]), int(first_named.size())) << m;
+        for (std::size_t i = 0; i < first_named.size(); ++i)
+            EXPECT_EQ(t.edge_order[m][i], first_named[i]) << m;
+        // crossed_faces: the faces holding both inside and outside corners.
+        for (int f = 0; f < 6; ++f) {
+            const int axis = f / 2, side = f & 1;
+            int inside = 0;
+            for (int c = 0; c < 8; ++c)
+                if (((c >> axis) & 1) == side) inside += (m >> c) & 1;
+            EXPECT_EQ(inside != 0 && inside != 4, ((t.crossed_faces[m] >> f) & 1) != 0) << m << " face " << f;
+        }
     }
 }
 
@@ -182,25 +199,47 @@ TEST(MarchingSlices, MatchesBruteForceOnRandomBlobs) {
     }
 }
 
-TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
-    const Cloud c = blobs(3, 5, 40, 0.1f);
-    SlicesExtractor ex(settings_for(0.1f, 8), c.size());
-    SurfaceMesh m;
-    ex.extract_serial(c.pos(), m);
-    const SliceGrid g = ex.grid();
-    const SliceKernel f = SliceKernel::from_rc(g.rc);
-    const std::uint32_t n = g.n, cols = (n + 1) * (n + 1);
-    std::vector<std::uint32_t> order(c.size()), counts(lookup_sort_slots(g)), offsets(cols + 1);
-    std::vector<std::uint16_t> rows(c.size() * lookup_row_slots(g));
+namespace {
+
+// The blob cloud of the per-block tests, extracted once (for its grid), and the lookup cache of any of
+// its blocks, built as the extractor builds it.
+struct BlockCaches {
+    Cloud c = blobs(3, 5, 40, 0.1f);
+    SliceGrid g;
+    std::vector<std::uint32_t> order, counts, offsets;
+    std::vector<std::uint16_t> rows;
     std::vector<ColumnEntry> entries;
+    float iso = 0;
+
+    BlockCaches() {
+        SlicesExtractor ex(settings_for(0.1f, 8), c.size());
+        SurfaceMesh m;
+        ex.extract_serial(c.pos(), m);
+        g = ex.grid();
+        iso = ex.iso();
+        order.resize(c.size()), counts.resize(lookup_sort_slots(g));
+        offsets.resize(std::size_t(g.n + 1) * (g.n + 1) + 1), rows.resize(c.size() * lookup_row_slots(g));
+    }
+    LookupCacheView build(std::uint32_t bi, std::uint32_t bj, std::uint32_t bk) {
+        const LookupScratch ls{order, counts, rows};
+        entries.resize(build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, {}));
+        build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, entries);
+        return {offsets, entries, g.reach};
+    }
+};
+
+}  // namespace
+
+TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
+    BlockCaches caches;
+    const SliceGrid& g = caches.g;
+    const SliceKernel f = SliceKernel::from_rc(g.rc);
+    const std::uint32_t n = g.n;
     std::vector<float> pz(n + 4), column(n + 1);  // cache_column reads pz in fours
     std::size_t nonzero = 0;
     for (std::uint32_t b = 0; b < g.blocks(); ++b) {
         const std::uint32_t bi = b % g.bx, bj = (b / g.bx) % g.by, bk = b / (g.bx * g.by);
-        const LookupScratch ls{order, counts, rows};
-        entries.resize(build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, {}));
-        build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, entries);
-        const LookupCacheView view{offsets, entries, g.reach};
+        const LookupCacheView view = caches.build(bi, bj, bk);
         const std::int32_t k0 = std::int32_t(bk * n);
         for (std::uint32_t k = 0; k <= n; ++k) pz[k] = g.cz(k0 + std::int32_t(k));
         for (std::uint32_t j = 0; j <= n; ++j)
@@ -378,6 +417,57 @@ TEST(MarchingSlices, SameBytesAtOneAndTwoThreadsAndSerially) {
             EXPECT_EQ(hash_of(mesh), serial) << threads << " threads, run " << r;
         }
     }
+}
+
+// A sweep scratch tags its edge slots with one of 255 values per block and clears them when the tags
+// start over, and clears its cube stamps and slots when the 32-bit generation wraps. One block swept
+// from fresh scratch, then again from scratch full of slots and stamps that would be live if those
+// clears were missing: the same mesh.
+TEST(MarchingSlices, SweepClearsStaleSlotsWhenItsTagsStartOver) {
+    BlockCaches caches;
+    const SliceGrid& g = caches.g;
+    const Cloud& c = caches.c;
+    const SliceScratchSizes z(g.n);
+    std::vector<float> slices(z.slices);
+    std::vector<std::int32_t> slot(z.slots), free_slots(z.slots), walk_lo(z.columns), walk_hi(z.columns);
+    std::vector<std::uint64_t> face_bits(z.face_bits);
+    std::vector<std::uint32_t> stamps(z.cubes), edges(z.edges), todo(z.todo), todo_count(z.slabs);
+    std::uint32_t generation = 0;
+    const SliceScratch scratch{slices, slot,       free_slots, face_bits, stamps,     edges,
+                               todo,   todo_count, walk_lo,    walk_hi,   &generation};
+    std::vector<float> positions(3 * 20000);
+    std::vector<std::uint64_t> keys(20000);
+    std::vector<std::uint32_t> triangles(3 * 40000);
+    const BlockMeshOut out{positions, keys, triangles};
+    std::size_t swept = 0;
+    for (std::uint32_t b = 0; b < g.blocks(); ++b) {
+        const std::uint32_t bi = b % g.bx, bj = (b / g.bx) % g.by, bk = b / (g.bx * g.by);
+        const LookupCacheView cache = caches.build(bi, bj, bk);
+        // The block's vertices and triangles from one sweep.
+        auto sweep = [&] {
+            const BlockSweepStats st = march_block(g, bi, bj, bk, caches.iso, cache, c.pos(), scratch, out);
+            EXPECT_FALSE(st.overflow);
+            return std::make_pair(
+                std::vector<float>(positions.begin(), positions.begin() + 3 * std::ptrdiff_t(st.vertices)),
+                std::vector<std::uint32_t>(triangles.begin(),
+                                           triangles.begin() + 3 * std::ptrdiff_t(st.triangles)));
+        };
+        generation = 0;
+        std::fill(stamps.begin(), stamps.end(), 0u), std::fill(edges.begin(), edges.end(), 0u);
+        const auto fresh = sweep();
+        if (fresh.second.empty()) continue;
+        // Next generation 255: tag 1 starts a cycle; every slot holds tag 1 and a bogus vertex.
+        generation = 254;
+        std::fill(edges.begin(), edges.end(), (1u << kEdgeVertexBits) | 12345u);
+        EXPECT_EQ(sweep(), fresh) << "block " << b;
+        // The generation wraps to 1 (tag 2): stamps of 1 and slots of tag 2 are stale.
+        generation = 0xffffffffu;
+        std::fill(stamps.begin(), stamps.end(), 1u);
+        std::fill(edges.begin(), edges.end(), (2u << kEdgeVertexBits) | 12345u);
+        EXPECT_EQ(sweep(), fresh) << "block " << b;
+        ++swept;
+    }
+    EXPECT_GT(swept, 3u);
 }
 
 TEST(MarchingSlices, RejectsBadSettingsAndInputs) {

@@ -46,7 +46,7 @@ TEST(SlicesCli, MeshWritesAMeshAndItsJson) {
     EXPECT_EQ(j["mesh_hash"].get<std::string>().size(), 16u);
     EXPECT_GE(j["total_ms"].get<double>(), 0.0);
     for (const char* stage : {"slices.begin", "slices.count", "slices.scatter", "slices.blocks",
-                              "slices.weld", "slices.normals", "slices.stage"})
+                              "slices.weld", "slices.normals", "slices.borders", "slices.stage"})
         EXPECT_TRUE(j["stages"].contains(stage)) << stage;
     EXPECT_FLOAT_EQ(j["voxel"].get<float>(), 0.015f) << "default voxel: radius / 2";
     EXPECT_FLOAT_EQ(j["rc"].get<float>(), 0.06f) << "R_c = 2 radius";

@@ -7,6 +7,7 @@
 
 #include "systems/scan/scan_settings.h"
 #include "systems/scenes/scene.h"
+#include "systems/slices/slices_settings.h"
 
 namespace rivulet::cli {
 
@@ -45,7 +46,7 @@ struct SceneOptions {
 // Options of marching slices shared by `run` and `mesh` (--voxel, --block, --exhaustive-seeds).
 struct SlicesOptions {
     float voxel = 0;
-    std::uint32_t block = 16;
+    std::uint32_t block = SlicesSettings{}.block_cubes;
     bool exhaustive = false;
     void add_to(CLI::App& cmd);
 };

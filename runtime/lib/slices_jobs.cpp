@@ -29,7 +29,10 @@ SlicesJobIds add_slices_jobs(FrameGraph& g, SlicesExtractor& slices,
     id.normals = g.parallel(
         "slices.normals", [&s] { return std::size_t(s.blocks()); },
         [&s, out, item](std::size_t b) { s.normals_block(item(b), out()); }, {id.weld});
-    id.stage = g.serial("slices.stage", [&s, out] { s.stage(out()); }, {id.normals});
+    id.borders = g.serial("slices.borders", [&s, out] { s.borders(out()); }, {id.normals});
+    id.stage = g.parallel(
+        "slices.stage", [&s] { return std::size_t(s.blocks()); },
+        [&s, out, item](std::size_t b) { s.stage(item(b), out()); }, {id.borders});
     return id;
 }
 

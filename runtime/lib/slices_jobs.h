@@ -2,7 +2,7 @@
 // The marching-slices jobs of a frame graph (seed 004 §3.2), shared by `mesh` (alone) and, later, `run`.
 // See SlicesExtractor for what each job does. Job names carry the `slices.` prefix:
 //   slices.begin -> slices.count* -> slices.prefix -> slices.scatter* -> slices.blocks* -> slices.offsets
-//   -> slices.weld* -> slices.normals* -> slices.stage                              (* = parallel items)
+//   -> slices.weld* -> slices.normals* -> slices.borders -> slices.stage*           (* = parallel items)
 #include <functional>
 #include <initializer_list>
 
@@ -12,7 +12,7 @@
 namespace rivulet {
 
 struct SlicesJobIds {
-    FrameGraph::JobId begin, count, prefix, scatter, blocks, offsets, weld, normals, stage;
+    FrameGraph::JobId begin, count, prefix, scatter, blocks, offsets, weld, normals, borders, stage;
 };
 
 // `positions` and `output` are asked when each job runs, so they may change between frames (slots).

@@ -27,34 +27,35 @@ struct SlicesExtractor::Scratch {
     AlignedArray<std::uint32_t> order, sort_counts, column_offsets;
     AlignedArray<ColumnEntry> entries;
     AlignedArray<std::uint16_t> rows;
-    AlignedArray<float> slices, faces;
+    AlignedArray<float> slices;
+    AlignedArray<std::uint64_t> face_bits;
     AlignedArray<std::int32_t> slice_slot, free_slots, walk_lo, walk_hi;
     AlignedArray<std::uint32_t> cube_stamp, todo, todo_count;
-    AlignedArray<EdgeSlot> edges;
+    AlignedArray<std::uint32_t> edges;
     std::uint32_t generation = 0;
 
     explicit Scratch(const SliceGrid& g) {
         const SliceScratchSizes z(g.n);
         sort_counts.reserve(lookup_sort_slots(g));
         column_offsets.reserve(z.columns + 1);
-        slices.reserve(z.slices), faces.reserve(z.faces);
+        slices.reserve(z.slices), face_bits.reserve(z.face_bits);
         slice_slot.reserve(z.slots), free_slots.reserve(z.slots);
         walk_lo.reserve(z.columns), walk_hi.reserve(z.columns);
         cube_stamp.reserve(z.cubes), edges.reserve(z.edges);
         std::fill(cube_stamp.data(), cube_stamp.data() + z.cubes, 0u);
-        std::fill(edges.data(), edges.data() + z.edges, EdgeSlot{0, 0});
-        todo.reserve(z.todo), todo_count.reserve(g.n);
+        std::fill(edges.data(), edges.data() + z.edges, 0u);
+        todo.reserve(z.todo), todo_count.reserve(z.slabs);
     }
     SliceScratch view(const SliceGrid& g) {
         const SliceScratchSizes z(g.n);
         return {slices.span(z.slices),
                 slice_slot.span(z.slots),
                 free_slots.span(z.slots),
-                faces.span(z.faces),
+                face_bits.span(z.face_bits),
                 cube_stamp.span(z.cubes),
                 edges.span(z.edges),
                 todo.span(z.todo),
-                todo_count.span(g.n),
+                todo_count.span(z.slabs),
                 walk_lo.span(z.columns),
                 walk_hi.span(z.columns),
                 &generation};
@@ -97,6 +98,15 @@ void SlicesExtractor::reserve_scratch(std::size_t workers) {
         scratch_.push_back(std::make_unique<Scratch>(grid_));
         free_scratch_.reserve(scratch_.size());
         free_scratch_.push_back(scratch_.back().get());
+    }
+}
+
+void SlicesExtractor::grow_scratch(std::uint32_t particles, std::uint32_t cache_entries) {
+    std::lock_guard<std::mutex> lock(scratch_mutex_);
+    for (const auto& s : scratch_) {
+        ensure(s->order, particles);
+        ensure(s->rows, std::size_t(particles) * lookup_row_slots(grid_));
+        ensure(s->entries, cache_entries);
     }
 }
 
@@ -150,6 +160,7 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
     ensure(chunk_cursors_, std::size_t(blocks) * chunks_);
     ensure(block_offsets_, std::size_t(blocks) + 1);
     ensure(active_, std::size_t(blocks));
+    ensure(schedule_, std::size_t(blocks));
     ensure(block_to_active_, std::size_t(blocks));
     stats_.blocks = static_cast<std::uint32_t>(blocks);
 }
@@ -190,6 +201,15 @@ void SlicesExtractor::block_prefix() {
             "marching slices: {} non-empty blocks exceed the limit of {} (raise --block or max_blocks)",
             active, settings_.max_blocks));
     if (slots_.size() < active) slots_.resize(active);  // rare: the most blocks seen so far
+    std::uint32_t* order = schedule_.data();
+    for (std::uint32_t a = 0; a < active; ++a) order[a] = a;
+    auto particles_in = [&](std::uint32_t a) {
+        return block_offsets_[active_[a] + 1] - block_offsets_[active_[a]];
+    };
+    std::sort(order, order + active, [&](std::uint32_t x, std::uint32_t y) {
+        const std::uint32_t px = particles_in(x), py = particles_in(y);
+        return px != py ? px > py : x < y;
+    });
     active_count_ = active;
     stats_.active_blocks = active;
     stats_.block_entries = entries_;
@@ -213,7 +233,8 @@ std::uint32_t SlicesExtractor::owner_of(std::uint64_t key) const {
     return (ok * grid_.by + oj) * grid_.bx + oi;
 }
 
-void SlicesExtractor::extract_block(std::uint32_t item) {
+void SlicesExtractor::extract_block(std::uint32_t scheduled) {
+    const std::uint32_t item = schedule_[scheduled];
     const std::uint32_t b = active_[item];
     const std::uint32_t bi = b % grid_.bx, bj = (b / grid_.bx) % grid_.by, bk = b / (grid_.bx * grid_.by);
     const std::uint32_t first = block_offsets_[b], np = block_offsets_[b + 1] - first;
@@ -241,6 +262,7 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
                                   s.entries.span(s.entries.capacity()));
     }
     const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach};
+    slots_[item].particles = np, slots_[item].cache_entries = need;
 
     // Neighbours that list no particle: their shared face carries no surface (march_block).
     unsigned empty_neighbours = 0;
@@ -301,14 +323,18 @@ void SlicesExtractor::extract_block(std::uint32_t item) {
 
 void SlicesExtractor::weld_offsets(SurfaceMesh& out) {
     std::uint64_t vertices = 0, triangles = 0;
+    std::uint32_t most_particles = 0, most_entries = 0;
     for (std::uint32_t a = 0; a < active_count_; ++a) {
         BlockSlot& s = slots_[a];
+        most_particles = std::max(most_particles, s.particles);
+        most_entries = std::max(most_entries, s.cache_entries);
         s.vertex_offset = vertices, s.triangle_offset = triangles;
         vertices += s.owned, triangles += s.triangles_n;
         stats_.seeds += s.sweep.seeds, stats_.cubes += s.sweep.cubes,
             stats_.slice_fills += s.sweep.slice_fills;
         stats_.peak_slices = std::max(stats_.peak_slices, s.sweep.peak_slices);
     }
+    grow_scratch(most_particles, most_entries);
     if (triangles > settings_.max_triangles)
         throw std::length_error(fmt::format("marching slices: {} triangles exceed the limit of {}", triangles,
                                             settings_.max_triangles));
@@ -364,7 +390,7 @@ void SlicesExtractor::normals_block(std::uint32_t item, SurfaceMesh& out) {
     }
 }
 
-void SlicesExtractor::stage(SurfaceMesh& out) {
+void SlicesExtractor::borders(SurfaceMesh& out) {
     float* verts = out.vertices6.data();
     for (std::uint32_t a = 0; a < active_count_; ++a) {  // border contributions, in block order
         const BlockSlot& s = slots_[a];
@@ -374,7 +400,13 @@ void SlicesExtractor::stage(SurfaceMesh& out) {
             for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] += s.acc[std::size_t(v) * 3 + c];
         }
     }
-    for (std::size_t v = 0; v < out.vertex_count; ++v) normalize_or_up(verts + v * 6 + 3);
+}
+
+void SlicesExtractor::stage(std::uint32_t item, SurfaceMesh& out) {
+    const BlockSlot& s = slots_[item];
+    float* verts = out.vertices6.data();
+    for (std::uint64_t v = s.vertex_offset; v < s.vertex_offset + s.owned; ++v)
+        normalize_or_up(verts + v * 6 + 3);
 }
 
 void SlicesExtractor::extract_serial(ConstPositions p, SurfaceMesh& out) {
@@ -386,7 +418,8 @@ void SlicesExtractor::extract_serial(ConstPositions p, SurfaceMesh& out) {
     weld_offsets(out);
     for (std::uint32_t a = 0; a < blocks(); ++a) weld_block(a, out);
     for (std::uint32_t a = 0; a < blocks(); ++a) normals_block(a, out);
-    stage(out);
+    borders(out);
+    for (std::uint32_t a = 0; a < blocks(); ++a) stage(a, out);
 }
 
 }  // namespace rivulet

@@ -10,7 +10,9 @@
 //   weld_block(block)*               owned vertices out, indices remapped to global (border vertices to
 //                                    their owner block's copy)
 //   normals_block(block)*            angle-weighted normals per block (jobs/angle_normals.h)
-//   stage                            border normals summed in block order, normalised, counts (serial)
+//   borders                          border vertices' normal sums added to their owners', in block order
+//                                    (serial)
+//   stage(block)*                    the block's owned normals normalised
 //   (* = independent items, run in parallel)
 //
 // Ownership rule: the vertex on global edge (corner g, axis a) belongs to the block holding cube g, i.e.
@@ -70,11 +72,15 @@ class SlicesExtractor {
     void block_scatter(ConstPositions p, std::uint32_t chunk);
     std::uint32_t blocks() const { return active_count_; }  // non-empty blocks, the items below
     std::uint32_t block_id(std::uint32_t item) const { return active_[item]; }
+    // Item i extracts the block with the i-th most listed particles (ties in block order), so that at
+    // the end of the job the threads are not waiting for one large block; output goes to the block's
+    // own slot, so the schedule does not change the mesh.
     void extract_block(std::uint32_t item);
     void weld_offsets(SurfaceMesh& out);
     void weld_block(std::uint32_t item, SurfaceMesh& out);
     void normals_block(std::uint32_t item, SurfaceMesh& out);
-    void stage(SurfaceMesh& out);
+    void borders(SurfaceMesh& out);
+    void stage(std::uint32_t item, SurfaceMesh& out);
 
     void extract_serial(ConstPositions p, SurfaceMesh& out);
 
@@ -94,12 +100,17 @@ class SlicesExtractor {
         AlignedArray<BorderEntry> border;  // owned vertices other blocks may refer to, sorted by key
         AlignedArray<float> acc;           // normal accumulators, 3 per vertex
         std::uint32_t vertices = 0, triangles_n = 0, owned = 0, border_n = 0;
+        std::uint32_t particles = 0, cache_entries = 0;  // what the block's sweep scratch had to hold
         std::uint64_t vertex_offset = 0, triangle_offset = 0;
         BlockSweepStats sweep;
     };
     struct Scratch;
     Scratch& acquire_scratch();
     void release_scratch(Scratch& s);
+    // Grows every sweep scratch to what the largest block of this frame needed, so that which worker
+    // meets which block never decides in which frame a buffer grows (serial; allocates only when a frame
+    // needs more than any before).
+    void grow_scratch(std::uint32_t particles, std::uint32_t cache_entries);
     std::uint32_t owner_of(std::uint64_t key) const;
     // c / n for corner indices (< 2^21) by a multiply: ceil(2^32 / n) is exact there for n <= 128
     // (the error c (magic n - 2^32) / 2^32 stays below 1 / n); owner_of runs once or twice per vertex and
@@ -123,6 +134,7 @@ class SlicesExtractor {
     AlignedArray<std::uint32_t> chunk_counts_, chunk_cursors_, block_offsets_, block_entries_;
     AlignedArray<float> entry_x_, entry_y_, entry_z_;
     AlignedArray<std::uint32_t> active_;
+    AlignedArray<std::uint32_t> schedule_;  // extract_block's items, most listed particles first
     AlignedArray<std::int32_t> block_to_active_;
     std::vector<BlockSlot> slots_;
 
