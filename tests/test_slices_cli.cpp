@@ -50,6 +50,9 @@ TEST(SlicesCli, MeshWritesAMeshAndItsJson) {
         EXPECT_TRUE(j["stages"].contains(stage)) << stage;
     EXPECT_FLOAT_EQ(j["voxel"].get<float>(), 0.015f) << "default voxel: radius / 2";
     EXPECT_FLOAT_EQ(j["rc"].get<float>(), 0.06f) << "R_c = 2 radius";
+    // Every triangle comes from a swept cube, at most five a cube; the sweep starts from seeds.
+    EXPECT_GE(5 * j["cubes"].get<std::uint64_t>(), j["triangles"].get<std::uint64_t>());
+    EXPECT_GT(j["seeds"].get<std::uint64_t>(), 0u);
     const rivulet::MeshData mesh = rivulet::read_mesh(obj);
     EXPECT_EQ(mesh.triangle_count(), j["triangles"].get<std::size_t>());
     // Other thread count: same bytes.

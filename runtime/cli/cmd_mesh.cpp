@@ -40,6 +40,7 @@ nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
                         {"radius", r.radius}};
     if (method == "slices") {
         j["voxel"] = r.voxel, j["rc"] = r.rc, j["iso"] = r.iso, j["blocks"] = r.blocks;
+        j["seeds"] = r.seeds, j["cubes"] = r.cubes;
     } else {
         j["groups"] = r.groups, j["isolated"] = r.isolated;
     }

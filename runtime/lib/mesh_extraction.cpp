@@ -45,6 +45,7 @@ void extract_slices(const ParticleSet& particles, const MeshRequest& req, MeshRe
     result.rc = slices.rc();
     result.iso = slices.iso();
     result.blocks = slices.stats().active_blocks;
+    result.seeds = slices.stats().seeds, result.cubes = slices.stats().cubes;
     const TriangleMeshView view = out.view();
     result.mesh.vertices.assign(view.vertices.begin(), view.vertices.end());
     result.mesh.indices.assign(view.indices.begin(), view.indices.end());

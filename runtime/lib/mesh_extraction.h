@@ -27,6 +27,7 @@ struct MeshResult {
     std::uint32_t groups = 0, isolated = 0;                // scan
     float voxel = 0, rc = 0, iso = 0;                      // slices
     std::uint32_t blocks = 0;                              // slices: non-empty blocks
+    std::uint64_t seeds = 0, cubes = 0;                    // slices: seed cubes, cubes swept
     double total_ms = 0;                                   // median graph wall time
     std::vector<std::pair<std::string, double>> stage_ms;  // medians
     TriangleMesh mesh;
