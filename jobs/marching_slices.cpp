@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 
 #include "jobs/marching_tables.h"
 
@@ -15,7 +16,7 @@ constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's lim
 BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
                             const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
-                            unsigned empty_neighbours) {
+                            unsigned empty_neighbours, const SharedFaces& shared) {
     const MarchingTables& mt = marching_tables();
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n, n1 = n + 1, cols = n1 * n1;
@@ -168,12 +169,11 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     // Face (a, side) as bit rows: bit u of row w is set where F >= iso (u, w the next two axes after a),
     // `words` 64-bit words per row plus a zero word, so a row shifted by one bit reads its neighbour.
     const std::uint32_t words = (n1 + 63) / 64, stride = words + 1;
-    std::uint64_t* const bits = s.face_bits.data();
     std::array<float, kMaxBlockCubes + 1> column_f{};
-    auto set_bit = [&](std::uint32_t row, std::uint32_t bit) {
-        bits[row * stride + bit / 64] |= std::uint64_t(1) << (bit % 64);
-    };
-    auto fill_face = [&](std::uint32_t a, std::uint32_t side) {
+    auto fill_face = [&](std::uint32_t a, std::uint32_t side, std::uint64_t* bits) {
+        auto set_bit = [bits, stride](std::uint32_t row, std::uint32_t bit) {
+            bits[row * stride + bit / 64] |= std::uint64_t(1) << (bit % 64);
+        };
         std::fill(bits, bits + std::size_t(n1) * stride, std::uint64_t(0));
         const std::uint32_t plane = side * n;
         if (a == 2) {
@@ -199,6 +199,24 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
                 }
         }
     };
+    // The face's bit rows: published by the neighbour, or scanned here (and published when this block
+    // claims the face first).
+    auto face_bits = [&](std::uint32_t a, std::uint32_t side) -> const std::uint64_t* {
+        const SharedFace& sf = shared[2 * a + side];
+        if (sf.state != nullptr) {
+            std::atomic_ref<std::uint32_t> state(*sf.state);
+            std::uint32_t seen = state.load(std::memory_order_acquire);
+            if (seen == kFaceDone) return sf.bits;
+            if (seen == kFaceFree &&
+                state.compare_exchange_strong(seen, kFaceBusy, std::memory_order_acquire)) {
+                fill_face(a, side, sf.bits);
+                state.store(kFaceDone, std::memory_order_release);
+                return sf.bits;
+            }
+        }
+        fill_face(a, side, s.face_bits.data());
+        return s.face_bits.data();
+    };
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};
     const std::uint64_t last_cells = (n % 64) ? (std::uint64_t(1) << (n % 64)) - 1 : ~std::uint64_t(0);
     for (std::uint32_t a = 0; a < 3; ++a)
@@ -209,7 +227,7 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             const std::int32_t plane = static_cast<std::int32_t>(side * n);
             if (plane < near_lo[a] || plane > near_hi[a]) continue;  // no particle reaches it: F = 0
             const std::uint32_t u = (a + 1) % 3, w = (a + 2) % 3;
-            fill_face(a, side);
+            const std::uint64_t* const bits = face_bits(a, side);
             // A face cell is crossed when its four corners (bits u, u + 1 of rows w, w + 1) differ.
             for (std::uint32_t cw = 0; cw < n; ++cw) {
                 const std::uint64_t* r0 = bits + cw * stride;

@@ -18,9 +18,12 @@
 //     boundary) is scanned and every face cell the surface crosses seeds its cube. With (1) this finds
 //     every surface piece that meets a block face or encloses a particle centre inside the block. The
 //     sweep follows the surface both up and down, so seeds need not be local minima.
+//     A face between two non-empty blocks is scanned by whichever of them gets to it first, which
+//     publishes its bits for the other (SharedFace).
 //
 // Vertices are shared within the block through an edge table; each carries its global edge key so the
 // extractor can weld block borders.
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -80,6 +83,20 @@ struct SliceScratchSizes {
           columns(std::size_t(n + 1) * (n + 1)) {}
 };
 
+// A face between two non-empty blocks, scanned once for both: the first block to claim it publishes its
+// bit rows (F >= iso per corner, laid out as SliceScratch::face_bits) and the other reads them. Both
+// blocks would compute the same bits (each lists every particle that reaches the face's corners, and a
+// corner's sum runs over the same entries in the same global order), so which block scans it changes
+// no byte of the output. A block that finds the face being scanned by the other scans it itself rather
+// than wait.
+struct SharedFace {
+    std::uint32_t* state = nullptr;  // kFaceFree, kFaceBusy or kFaceDone (atomic_ref); null: not shared
+    std::uint64_t* bits = nullptr;   // SliceScratchSizes::face_bits words
+};
+inline constexpr std::uint32_t kFaceFree = 0, kFaceBusy = 1, kFaceDone = 2;
+// Face f = 2 * axis + side (side 1 is the +axis face), as in `empty_neighbours`.
+using SharedFaces = std::array<SharedFace, 6>;
+
 // `exhaustive`: also seed from every sign change along every z column of the block ((n+1)^3 corner
 // evaluations), which finds every component, empty cavities included, like plain marching cubes.
 // `empty_neighbours`: bit 2 a + side is set when the neighbouring block across face (axis a, min side 0 /
@@ -88,6 +105,6 @@ struct SliceScratchSizes {
 BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
                             const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false,
-                            unsigned empty_neighbours = 0);
+                            unsigned empty_neighbours = 0, const SharedFaces& shared = {});
 
 }  // namespace rivulet

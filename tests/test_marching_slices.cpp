@@ -419,55 +419,141 @@ TEST(MarchingSlices, SameBytesAtOneAndTwoThreadsAndSerially) {
     }
 }
 
+namespace {
+
+// One worker's sweep scratch and a block's output buffers, as the extractor hands them to march_block.
+struct SweepBuffers {
+    SliceScratchSizes z;
+    std::vector<float> slices;
+    std::vector<std::int32_t> slot, free_slots, walk_lo, walk_hi;
+    std::vector<std::uint64_t> face_bits;
+    std::vector<std::uint32_t> stamps, edges, todo, todo_count;
+    std::uint32_t generation = 0;
+    std::vector<float> positions = std::vector<float>(3 * 20000);
+    std::vector<std::uint64_t> keys = std::vector<std::uint64_t>(20000);
+    std::vector<std::uint32_t> triangles = std::vector<std::uint32_t>(3 * 40000);
+
+    explicit SweepBuffers(const SliceGrid& g)
+        : z(g.n),
+          slices(z.slices),
+          slot(z.slots),
+          free_slots(z.slots),
+          walk_lo(z.columns),
+          walk_hi(z.columns),
+          face_bits(z.face_bits),
+          stamps(z.cubes),
+          edges(z.edges),
+          todo(z.todo),
+          todo_count(z.slabs) {}
+};
+
+// What one sweep of a block gives: its vertices, its triangles and how many seeds it queued.
+struct Swept {
+    std::vector<float> positions;
+    std::vector<std::uint32_t> triangles;
+    std::uint64_t seeds = 0;
+    bool operator==(const Swept&) const = default;
+};
+
+Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, const SharedFaces& shared = {}) {
+    const SliceGrid& g = caches.g;
+    const std::uint32_t bi = block % g.bx, bj = (block / g.bx) % g.by, bk = block / (g.bx * g.by);
+    const LookupCacheView cache = caches.build(bi, bj, bk);
+    const SliceScratch scratch{b.slices, b.slot,       b.free_slots, b.face_bits, b.stamps,     b.edges,
+                               b.todo,   b.todo_count, b.walk_lo,    b.walk_hi,   &b.generation};
+    const BlockSweepStats st = march_block(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch,
+                                           {b.positions, b.keys, b.triangles}, false, 0, shared);
+    EXPECT_FALSE(st.overflow);
+    return {std::vector<float>(b.positions.begin(), b.positions.begin() + 3 * std::ptrdiff_t(st.vertices)),
+            std::vector<std::uint32_t>(b.triangles.begin(),
+                                       b.triangles.begin() + 3 * std::ptrdiff_t(st.triangles)),
+            st.seeds};
+}
+
+// Face cells whose four corners (bit rows as SliceScratch::face_bits) are not all alike.
+std::uint64_t crossed_face_cells(const std::vector<std::uint64_t>& bits, std::uint32_t n) {
+    const std::uint32_t stride = (n + 1 + 63) / 64 + 1;
+    auto at = [&](std::uint32_t u, std::uint32_t w) { return (bits[w * stride + u / 64] >> (u % 64)) & 1u; };
+    std::uint64_t crossed = 0;
+    for (std::uint32_t w = 0; w < n; ++w)
+        for (std::uint32_t u = 0; u < n; ++u) {
+            const auto sum = at(u, w) + at(u + 1, w) + at(u, w + 1) + at(u + 1, w + 1);
+            crossed += sum != 0 && sum != 4;
+        }
+    return crossed;
+}
+
+}  // namespace
+
 // A sweep scratch tags its edge slots with one of 255 values per block and clears them when the tags
 // start over, and clears its cube stamps and slots when the 32-bit generation wraps. One block swept
 // from fresh scratch, then again from scratch full of slots and stamps that would be live if those
 // clears were missing: the same mesh.
 TEST(MarchingSlices, SweepClearsStaleSlotsWhenItsTagsStartOver) {
     BlockCaches caches;
-    const SliceGrid& g = caches.g;
-    const Cloud& c = caches.c;
-    const SliceScratchSizes z(g.n);
-    std::vector<float> slices(z.slices);
-    std::vector<std::int32_t> slot(z.slots), free_slots(z.slots), walk_lo(z.columns), walk_hi(z.columns);
-    std::vector<std::uint64_t> face_bits(z.face_bits);
-    std::vector<std::uint32_t> stamps(z.cubes), edges(z.edges), todo(z.todo), todo_count(z.slabs);
-    std::uint32_t generation = 0;
-    const SliceScratch scratch{slices, slot,       free_slots, face_bits, stamps,     edges,
-                               todo,   todo_count, walk_lo,    walk_hi,   &generation};
-    std::vector<float> positions(3 * 20000);
-    std::vector<std::uint64_t> keys(20000);
-    std::vector<std::uint32_t> triangles(3 * 40000);
-    const BlockMeshOut out{positions, keys, triangles};
+    SweepBuffers buf(caches.g);
     std::size_t swept = 0;
-    for (std::uint32_t b = 0; b < g.blocks(); ++b) {
-        const std::uint32_t bi = b % g.bx, bj = (b / g.bx) % g.by, bk = b / (g.bx * g.by);
-        const LookupCacheView cache = caches.build(bi, bj, bk);
-        // The block's vertices and triangles from one sweep.
-        auto sweep = [&] {
-            const BlockSweepStats st = march_block(g, bi, bj, bk, caches.iso, cache, c.pos(), scratch, out);
-            EXPECT_FALSE(st.overflow);
-            return std::make_pair(
-                std::vector<float>(positions.begin(), positions.begin() + 3 * std::ptrdiff_t(st.vertices)),
-                std::vector<std::uint32_t>(triangles.begin(),
-                                           triangles.begin() + 3 * std::ptrdiff_t(st.triangles)));
-        };
-        generation = 0;
-        std::fill(stamps.begin(), stamps.end(), 0u), std::fill(edges.begin(), edges.end(), 0u);
-        const auto fresh = sweep();
-        if (fresh.second.empty()) continue;
+    for (std::uint32_t b = 0; b < caches.g.blocks(); ++b) {
+        buf.generation = 0;
+        std::fill(buf.stamps.begin(), buf.stamps.end(), 0u),
+            std::fill(buf.edges.begin(), buf.edges.end(), 0u);
+        const Swept fresh = sweep_block(caches, buf, b);
+        if (fresh.triangles.empty()) continue;
         // Next generation 255: tag 1 starts a cycle; every slot holds tag 1 and a bogus vertex.
-        generation = 254;
-        std::fill(edges.begin(), edges.end(), (1u << kEdgeVertexBits) | 12345u);
-        EXPECT_EQ(sweep(), fresh) << "block " << b;
+        buf.generation = 254;
+        std::fill(buf.edges.begin(), buf.edges.end(), (1u << kEdgeVertexBits) | 12345u);
+        EXPECT_EQ(sweep_block(caches, buf, b), fresh) << "block " << b;
         // The generation wraps to 1 (tag 2): stamps of 1 and slots of tag 2 are stale.
-        generation = 0xffffffffu;
-        std::fill(stamps.begin(), stamps.end(), 1u);
-        std::fill(edges.begin(), edges.end(), (2u << kEdgeVertexBits) | 12345u);
-        EXPECT_EQ(sweep(), fresh) << "block " << b;
+        buf.generation = 0xffffffffu;
+        std::fill(buf.stamps.begin(), buf.stamps.end(), 1u);
+        std::fill(buf.edges.begin(), buf.edges.end(), (2u << kEdgeVertexBits) | 12345u);
+        EXPECT_EQ(sweep_block(caches, buf, b), fresh) << "block " << b;
         ++swept;
     }
     EXPECT_GT(swept, 3u);
+}
+
+// A face between two blocks is scanned by the first of them and read by the other. For every pair of
+// neighbouring blocks along every axis: the lower block publishes the face (its side 1) and sweeps the
+// same mesh as alone; the upper block reading those bits (its side 0) sweeps the same mesh as scanning
+// the face itself, and so does it when it finds the face still being scanned (it scans it itself).
+// Bits that were not the face's (all clear) lose exactly that face's seeds: the upper block reads them.
+TEST(MarchingSlices, AFaceScannedByOneBlockSeedsItsNeighbourAsItsOwnScan) {
+    BlockCaches caches;
+    const SliceGrid& g = caches.g;
+    SweepBuffers buf(g);
+    const std::uint32_t stride[3] = {1, g.bx, g.bx * g.by}, nb[3] = {g.bx, g.by, g.bz};
+    std::vector<std::uint64_t> bits(buf.z.face_bits);
+    std::size_t read = 0, seeded = 0;
+    for (std::uint32_t b = 0; b < g.blocks(); ++b) {
+        const std::uint32_t idx[3] = {b % g.bx, (b / g.bx) % g.by, b / (g.bx * g.by)};
+        for (std::uint32_t a = 0; a < 3; ++a) {
+            if (idx[a] + 1 == nb[a]) continue;
+            const std::uint32_t up = b + stride[a];
+            std::uint32_t state = kFaceFree;
+            SharedFaces lower{}, upper{};
+            lower[2 * a + 1] = upper[2 * a] = SharedFace{&state, bits.data()};
+            const Swept lower_alone = sweep_block(caches, buf, b), upper_alone = sweep_block(caches, buf, up);
+            std::fill(bits.begin(), bits.end(), ~std::uint64_t(0));  // publishing writes every word
+            EXPECT_EQ(sweep_block(caches, buf, b, lower), lower_alone) << b << " axis " << a;
+            if (state == kFaceFree) continue;  // no particle of the lower block reaches the face
+            EXPECT_EQ(state, kFaceDone);
+            EXPECT_EQ(sweep_block(caches, buf, up, upper), upper_alone) << up << " axis " << a;
+            state = kFaceBusy;
+            EXPECT_EQ(sweep_block(caches, buf, up, upper), upper_alone) << up << " axis " << a;
+            EXPECT_EQ(state, kFaceBusy);
+            ++read;
+            // Every crossed cell of the face seeds one cube: cleared bits take exactly those seeds away.
+            const std::uint64_t crossed = crossed_face_cells(bits, g.n);
+            if (crossed == 0) continue;
+            std::fill(bits.begin(), bits.end(), std::uint64_t(0));
+            state = kFaceDone;
+            EXPECT_EQ(sweep_block(caches, buf, up, upper).seeds + crossed, upper_alone.seeds) << up;
+            ++seeded;
+        }
+    }
+    EXPECT_GT(read, 10u);
+    EXPECT_GT(seeded, 2u);
 }
 
 TEST(MarchingSlices, RejectsBadSettingsAndInputs) {

@@ -201,6 +201,9 @@ void SlicesExtractor::block_prefix() {
             "marching slices: {} non-empty blocks exceed the limit of {} (raise --block or max_blocks)",
             active, settings_.max_blocks));
     if (slots_.size() < active) slots_.resize(active);  // rare: the most blocks seen so far
+    ensure(face_state_, std::size_t(active) * 3);
+    ensure(face_bits_, std::size_t(active) * 3 * SliceScratchSizes(grid_.n).face_bits);
+    std::fill(face_state_.data(), face_state_.data() + std::size_t(active) * 3, kFaceFree);
     std::uint32_t* order = schedule_.data();
     for (std::uint32_t a = 0; a < active; ++a) order[a] = a;
     auto particles_in = [&](std::uint32_t a) {
@@ -264,8 +267,16 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach};
     slots_[item].particles = np, slots_[item].cache_entries = need;
 
-    // Neighbours that list no particle: their shared face carries no surface (march_block).
+    // Neighbours that list no particle: their shared face carries no surface (march_block). Faces shared
+    // with a non-empty neighbour are scanned once for both; the face's slot belongs to the block on its
+    // +axis side.
     unsigned empty_neighbours = 0;
+    SharedFaces shared{};
+    const std::size_t face_words = SliceScratchSizes(grid_.n).face_bits;
+    auto shared_face = [&](std::uint32_t plus_side_item, std::uint32_t a) {
+        const std::size_t at = std::size_t(plus_side_item) * 3 + a;
+        return SharedFace{face_state_.data() + at, face_bits_.data() + at * face_words};
+    };
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {grid_.bx, grid_.by, grid_.bz},
                         stride[3] = {1, grid_.bx, grid_.bx * grid_.by};
     for (std::uint32_t a = 0; a < 3; ++a)
@@ -273,7 +284,12 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
             if (side == 0 ? bidx[a] == 0 : bidx[a] + 1 == nb[a])
                 continue;  // grid boundary: march_block knows
             const std::uint32_t o = side == 0 ? b - stride[a] : b + stride[a];
-            if (block_offsets_[o + 1] == block_offsets_[o]) empty_neighbours |= 1u << (2 * a + side);
+            if (block_to_active_[o] < 0) {
+                empty_neighbours |= 1u << (2 * a + side);
+                continue;
+            }
+            shared[2 * a + side] =
+                shared_face(side == 0 ? item : static_cast<std::uint32_t>(block_to_active_[o]), a);
         }
 
     // The sweep (run again with more room in the rare case the block's mesh outgrew its buffers).
@@ -287,7 +303,7 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
             march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
                         {slot.positions.span(slot.positions.capacity()), slot.keys.span(slot.keys.capacity()),
                          slot.triangles.span(slot.triangles.capacity())},
-                        settings_.exhaustive_seeds, empty_neighbours);
+                        settings_.exhaustive_seeds, empty_neighbours, shared);
         if (!slot.sweep.overflow) break;
         slot.positions.reserve(slot.positions.capacity() * 2), slot.keys.reserve(slot.keys.capacity() * 2);
         slot.triangles.reserve(slot.triangles.capacity() * 2);

@@ -135,6 +135,10 @@ class SlicesExtractor {
     AlignedArray<float> entry_x_, entry_y_, entry_z_;
     AlignedArray<std::uint32_t> active_;
     AlignedArray<std::uint32_t> schedule_;  // extract_block's items, most listed particles first
+    // Faces between non-empty blocks, scanned once for both (SharedFace): slot 3 a + axis is the min face
+    // of active block a along that axis; its state is reset every frame.
+    AlignedArray<std::uint32_t> face_state_;
+    AlignedArray<std::uint64_t> face_bits_;
     AlignedArray<std::int32_t> block_to_active_;
     std::vector<BlockSlot> slots_;
 
