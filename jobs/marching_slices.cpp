@@ -5,6 +5,7 @@
 #include <atomic>
 
 #include "jobs/marching_tables.h"
+#include "jobs/simd4.h"
 
 namespace rivulet {
 namespace {
@@ -288,6 +289,7 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
             (((lc >> 2) & 1u) * n1 * n1 + ((lc >> 1) & 1u) * n1 + (lc & 1u)) * 3 + mt.edge_axis[e];
     }
     const std::int32_t top = static_cast<std::int32_t>(n);
+    const simd::F4 iso4 = simd::splat(iso);
     for (;;) {
         while (lowest < top && count[lowest + 1] == 0) ++lowest;
         if (lowest >= top) break;
@@ -299,23 +301,29 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
 
         float* lower = slice(k);
         float* upper = slice(k + 1);
-        float v[8];
-        for (unsigned c = 0; c < 4; ++c) {  // corner c below, c + 4 above
-            const std::uint32_t ci = i + (c & 1u), cj = j + ((c >> 1) & 1u), at = cj * n1 + ci;
-            if (lower[at] < 0.0f || upper[at] < 0.0f) {
+        // The cube's corners c = 0..3 (i + (c & 1), j + (c >> 1)) below and c + 4 above, four to a vector.
+        const std::uint32_t corner0 = j * n1 + i;
+        simd::F4 below = simd::load_pairs(lower + corner0, lower + corner0 + n1);
+        simd::F4 above = simd::load_pairs(upper + corner0, upper + corner0 + n1);
+        if ((simd::sign_mask(below) | simd::sign_mask(above)) != 0) {  // some corner not computed yet
+            for (unsigned c = 0; c < 4; ++c) {
+                const std::uint32_t ci = i + (c & 1u), cj = j + (c >> 1), cat = cj * n1 + ci;
+                if (lower[cat] >= 0.0f && upper[cat] >= 0.0f) continue;
                 // A run of up to four slices of the column from the first missing one: one pass over the
                 // column's entries, and the cubes above in this column (the sweep's next slabs) mostly
                 // find their corners done. Recomputing a known corner gives the same bits.
-                const std::uint32_t from = lower[at] < 0.0f ? k : k + 1, to = std::min(from + 3, n);
+                const std::uint32_t from = lower[cat] < 0.0f ? k : k + 1, to = std::min(from + 3, n);
                 float run[4];
                 cache_column(cache, n, ci, cj, static_cast<std::int32_t>(from), static_cast<std::int32_t>(to),
                              column_z.data() + from, f, run);
-                for (std::uint32_t t = from; t <= to; ++t) slice(t)[at] = run[t - from];
+                for (std::uint32_t t = from; t <= to; ++t) slice(t)[cat] = run[t - from];
             }
-            v[c] = lower[at], v[c + 4] = upper[at];
+            below = simd::load_pairs(lower + corner0, lower + corner0 + n1);
+            above = simd::load_pairs(upper + corner0, upper + corner0 + n1);
         }
-        unsigned mask = 0;
-        for (unsigned c = 0; c < 8; ++c) mask |= (v[c] >= iso ? 1u : 0u) << c;
+        const unsigned mask = simd::geq_mask(below, iso4) | simd::geq_mask(above, iso4) << 4;
+        float v[8];
+        simd::store(v, below), simd::store(v + 4, above);
         const std::uint32_t ntri = mt.triangle_count[mask];
         if (st.triangles + ntri > max_triangles) {
             st.overflow = true;
