@@ -85,35 +85,50 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
     return sum;
 }
 
+// Lane types of the column kernel: four slices to a vector (SSE2, the x86-64 baseline) or eight (AVX2).
+template <int Lanes>
+struct ColumnLanes;
+template <>
+struct ColumnLanes<4> {
+    using f = float __attribute__((vector_size(16)));
+    using i = std::int32_t __attribute__((vector_size(16)));
+};
+template <>
+struct ColumnLanes<8> {
+    using f = float __attribute__((vector_size(32)));
+    using i = std::int32_t __attribute__((vector_size(32)));
+};
+
 // F at the local corners (i, j, k) of one column for every k in [k_lo, k_hi], written to out[k - k_lo];
-// pz[k - k_lo] is the world z of slice k, readable (any value) up to the next multiple of four entries.
+// pz[k - k_lo] is the world z of slice k, readable (any value) up to the next multiple of Lanes entries.
 // Bit-identical to cache_field at each corner: every corner adds the same terms, computed by the same
-// float expressions, in the same (entry) order. Four slices at a time share one pass over the entries
+// float expressions, in the same (entry) order. Lanes slices at a time share one pass over the entries
 // that reach any of them; an entry out of a slice's range is beyond R_c there and adds +0.0f, which
-// leaves that sum's bits unchanged. GCC/Clang vector extensions: four independent IEEE lanes, the same
-// operations as the scalar code (no contraction: -ffp-contract=off). The seed walks, the face scans and
-// the sweep all evaluate corners through this (a lone corner is a run of one).
+// leaves that sum's bits unchanged, so the lane count changes no bit either. GCC/Clang vector
+// extensions: independent IEEE lanes, the same operations as the scalar code (no contraction:
+// -ffp-contract=off). The seed walks, the face scans and the sweep all evaluate corners through this (a
+// lone corner is a run of one). Eight lanes only pay in a function built for AVX2 (march_block's).
+template <int Lanes = 4>
 inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
                          std::int32_t k_lo, std::int32_t k_hi, const float* pz, SliceKernel f, float* out) {
-    using f4 = float __attribute__((vector_size(16)));
-    using i4 = std::int32_t __attribute__((vector_size(16)));
+    using fv = typename ColumnLanes<Lanes>::f;
+    using iv = typename ColumnLanes<Lanes>::i;
     const std::uint32_t col = j * (n + 1) + i;
     const ColumnEntry* const end = c.end(col);
     const ColumnEntry* first = c.first_reaching(c.begin(col), end, k_lo);
-    const f4 rc2 = {f.rc2, f.rc2, f.rc2, f.rc2}, inv = {f.inv_2rc2, f.inv_2rc2, f.inv_2rc2, f.inv_2rc2};
-    const f4 half = {0.5f, 0.5f, 0.5f, 0.5f};
-    for (std::int32_t a = k_lo; a <= k_hi; a += 4) {
-        const std::int32_t b = std::min(a + 3, k_hi), lanes = b - a + 1;
-        f4 z;
+    const fv rc2 = fv{} + f.rc2, inv = fv{} + f.inv_2rc2, half = fv{} + 0.5f;
+    for (std::int32_t a = k_lo; a <= k_hi; a += Lanes) {
+        const std::int32_t b = std::min(a + Lanes - 1, k_hi), lanes = b - a + 1;
+        fv z;
         std::memcpy(&z, pz + (a - k_lo), sizeof z);  // lanes past k_hi: padding, never stored
         while (first != end && first->mid_z + c.reach + 1 < a) ++first;  // below this run of slices
-        f4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
+        fv sum = fv{};
         for (const ColumnEntry* e = first; e != end && e->mid_z - c.reach <= b; ++e) {
-            const f4 dz = e->z - z;
-            const f4 r2 = e->dxy + dz * dz;
-            const f4 q = r2 * inv - half;
-            const f4 term = q * q;
-            sum += reinterpret_cast<f4>(reinterpret_cast<i4>(term) & (r2 < rc2));  // +0 beyond R_c
+            const fv dz = e->z - z;
+            const fv r2 = e->dxy + dz * dz;
+            const fv q = r2 * inv - half;
+            const fv term = q * q;
+            sum += reinterpret_cast<fv>(reinterpret_cast<iv>(term) & (r2 < rc2));  // +0 beyond R_c
         }
         for (std::int32_t l = 0; l < lanes; ++l) out[a - k_lo + l] = sum[l];
     }

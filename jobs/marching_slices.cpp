@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 
+#include "jobs/cpu_dispatch.h"
 #include "jobs/marching_tables.h"
 #include "jobs/simd4.h"
 
@@ -12,12 +13,16 @@ namespace {
 
 constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's limit on block_cubes
 
-}  // namespace
-
-BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
-                            float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
-                            unsigned empty_neighbours, const SharedFaces& shared) {
+// The sweep of one block, built twice (march_block): `RunLanes` slices per column-kernel pass in the
+// seed walks and the x/y face scans, whose runs are long (8 in the AVX2 build, 4 in the baseline). The
+// sweep's own runs stay at four slices: it rarely needs more of a column. Either build gives the same
+// bits (cache_column).
+template <int RunLanes>
+RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj,
+                                                std::uint32_t bk, float iso, const LookupCacheView& cache,
+                                                ConstPositions particles, const SliceScratch& s,
+                                                const BlockMeshOut& out, bool exhaustive,
+                                                unsigned empty_neighbours, const SharedFaces& shared) {
     const MarchingTables& mt = marching_tables();
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n, n1 = n + 1, cols = n1 * n1;
@@ -36,7 +41,7 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
     const std::uint32_t live_tag = tag << kEdgeVertexBits, vertex_bits = (1u << kEdgeVertexBits) - 1;
 
     // World z of each slice, for corner and column evaluations (padded: column runs read up to four).
-    std::array<float, kMaxBlockCubes + 4> column_z{};
+    std::array<float, kMaxBlockCubes + 8> column_z{};
     for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
     auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
         return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), column_z[k], f);
@@ -94,12 +99,13 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         if (lk >= run_lo && lk <= run_hi) return true;  // inside a run already walked
         const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
         // Corner values four slices at a time downwards (one pass over the column's entries each).
-        float run[4];
+        float run[RunLanes];
         std::int32_t run_top = -1, run_bottom = 0;
         auto inside_at = [&](std::int32_t k) {
             if (k > run_top || k < run_bottom) {
-                run_top = k, run_bottom = std::max(0, k - 3);
-                cache_column(cache, n, ui, uj, run_bottom, run_top, column_z.data() + run_bottom, f, run);
+                run_top = k, run_bottom = std::max(0, k - (RunLanes - 1));
+                cache_column<RunLanes>(cache, n, ui, uj, run_bottom, run_top, column_z.data() + run_bottom, f,
+                                       run);
             }
             return run[k - run_bottom] >= iso;
         };
@@ -189,7 +195,7 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         for (std::int32_t t = near_lo[a == 0 ? 1 : 0]; t <= near_hi[a == 0 ? 1 : 0]; ++t) {
             const std::uint32_t ut = static_cast<std::uint32_t>(t);
             const std::uint32_t i = a == 0 ? plane : ut, j = a == 0 ? ut : plane;
-            cache_column(cache, n, i, j, k_lo, k_hi, column_z.data() + k_lo, f, column_f.data());
+            cache_column<RunLanes>(cache, n, i, j, k_lo, k_hi, column_z.data() + k_lo, f, column_f.data());
             // a = 0: u = y (t), w = z; a = 1: u = z, w = x (t).
             for (std::int32_t k = k_lo; k <= k_hi; ++k)
                 if (column_f[std::size_t(k - k_lo)] >= iso) {
@@ -384,6 +390,40 @@ BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t 
         lowest = mz ? lowest - 1 : lowest;  // lowest == k here
     }
     return st;
+}
+
+}  // namespace
+
+BlockSweepStats march_block_baseline(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
+                                     float iso, const LookupCacheView& cache, ConstPositions particles,
+                                     const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
+                                     unsigned empty_neighbours, const SharedFaces& shared) {
+    return march_block_body<4>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
+                               shared);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// flatten: the body's lambdas and the column kernel are inlined here, so they are built for AVX2 too.
+__attribute__((target("avx2"), flatten)) static BlockSweepStats march_block_avx2(
+    const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk, float iso,
+    const LookupCacheView& cache, ConstPositions particles, const SliceScratch& s, const BlockMeshOut& out,
+    bool exhaustive, unsigned empty_neighbours, const SharedFaces& shared) {
+    return march_block_body<8>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
+                               shared);
+}
+#endif
+
+BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
+                            float iso, const LookupCacheView& cache, ConstPositions particles,
+                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
+                            unsigned empty_neighbours, const SharedFaces& shared) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2())
+        return march_block_avx2(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
+                                shared);
+#endif
+    return march_block_baseline(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
+                                shared);
 }
 
 }  // namespace rivulet

@@ -12,6 +12,7 @@
 
 #include "jobs/bin_sort.h"
 #include "jobs/block_bins.h"
+#include "jobs/cpu_dispatch.h"
 #include "jobs/lookup_cache.h"
 #include "jobs/marching_tables.h"
 #include "jobs/mesh_hash.h"
@@ -235,7 +236,7 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
     const SliceGrid& g = caches.g;
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n;
-    std::vector<float> pz(n + 4), column(n + 1);  // cache_column reads pz in fours
+    std::vector<float> pz(n + 8), column(n + 1), column8(n + 1);  // cache_column reads pz in fours/eights
     std::size_t nonzero = 0;
     for (std::uint32_t b = 0; b < g.blocks(); ++b) {
         const std::uint32_t bi = b % g.bx, bj = (b / g.bx) % g.by, bk = b / (g.bx * g.by);
@@ -245,6 +246,9 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
         for (std::uint32_t j = 0; j <= n; ++j)
             for (std::uint32_t i = 0; i <= n; ++i) {
                 cache_column(view, n, i, j, 0, std::int32_t(n), pz.data(), f, column.data());
+                // Eight slices a pass (the AVX2 build's walks and face scans): the same bits.
+                cache_column<8>(view, n, i, j, 0, std::int32_t(n), pz.data(), f, column8.data());
+                ASSERT_EQ(std::memcmp(column.data(), column8.data(), column.size() * sizeof(float)), 0) << b;
                 for (std::uint32_t k = 0; k <= n; ++k) {
                     const float want = cache_field(view, n, i, j, std::int32_t(k), pz[k], f);
                     ASSERT_EQ(std::memcmp(&want, &column[k], sizeof(float)), 0) << b << " " << i << " " << j;
@@ -254,6 +258,14 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
                     cache_column(view, n, i, j, std::int32_t(k), std::int32_t(to), pz.data() + k, f, run);
                     for (std::uint32_t t = k; t <= to; ++t)
                         ASSERT_EQ(std::memcmp(&run[t - k], &column[t], sizeof(float)), 0) << b << " " << t;
+                    // The walks' runs of eight, downwards from slice k.
+                    float run8[8];
+                    const std::uint32_t from = k >= 7 ? k - 7 : 0;
+                    cache_column<8>(view, n, i, j, std::int32_t(from), std::int32_t(k), pz.data() + from, f,
+                                    run8);
+                    for (std::uint32_t t = from; t <= k; ++t)
+                        ASSERT_EQ(std::memcmp(&run8[t - from], &column[t], sizeof(float)), 0)
+                            << b << " " << t;
                     nonzero += want > 0.0f;
                 }
             }
@@ -455,14 +467,22 @@ struct Swept {
     bool operator==(const Swept&) const = default;
 };
 
-Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, const SharedFaces& shared = {}) {
+// The build of the sweep to run: march_block (AVX2 where the CPU has it) or march_block_baseline.
+enum class Build { kDispatched, kBaseline };
+
+Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, const SharedFaces& shared = {},
+                  Build build = Build::kDispatched) {
     const SliceGrid& g = caches.g;
     const std::uint32_t bi = block % g.bx, bj = (block / g.bx) % g.by, bk = block / (g.bx * g.by);
     const LookupCacheView cache = caches.build(bi, bj, bk);
     const SliceScratch scratch{b.slices, b.slot,       b.free_slots, b.face_bits, b.stamps,     b.edges,
                                b.todo,   b.todo_count, b.walk_lo,    b.walk_hi,   &b.generation};
-    const BlockSweepStats st = march_block(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch,
-                                           {b.positions, b.keys, b.triangles}, false, 0, shared);
+    const BlockMeshOut out{b.positions, b.keys, b.triangles};
+    const BlockSweepStats st =
+        build == Build::kBaseline
+            ? march_block_baseline(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch, out, false, 0,
+                                   shared)
+            : march_block(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch, out, false, 0, shared);
     EXPECT_FALSE(st.overflow);
     return {std::vector<float>(b.positions.begin(), b.positions.begin() + 3 * std::ptrdiff_t(st.vertices)),
             std::vector<std::uint32_t>(b.triangles.begin(),
@@ -511,6 +531,21 @@ TEST(MarchingSlices, SweepClearsStaleSlotsWhenItsTagsStartOver) {
         ++swept;
     }
     EXPECT_GT(swept, 3u);
+}
+
+// march_block runs an AVX2 build (eight slices per column pass in the walks and face scans) where the
+// CPU has it: every block's mesh and seeds are the same bytes as the baseline build's.
+TEST(MarchingSlices, Avx2AndBaselineBuildsSweepTheSameBytes) {
+    if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 on this CPU (or RIVULET_NO_AVX2 is set)";
+    BlockCaches caches;
+    SweepBuffers buf(caches.g);
+    std::size_t meshed = 0;
+    for (std::uint32_t b = 0; b < caches.g.blocks(); ++b) {
+        const Swept avx2 = sweep_block(caches, buf, b);
+        EXPECT_EQ(sweep_block(caches, buf, b, {}, Build::kBaseline), avx2) << "block " << b;
+        meshed += !avx2.triangles.empty();
+    }
+    EXPECT_GT(meshed, 3u);
 }
 
 // A face between two blocks is scanned by the first of them and read by the other. For every pair of
