@@ -313,13 +313,14 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
 
     // Ownership: rank the vertices this block owns; list those on its min faces for the neighbours.
     ensure(slot.rank, slot.vertices), ensure(slot.final_index, slot.vertices),
-        ensure(slot.border, slot.vertices);
+        ensure(slot.border, slot.vertices), ensure(slot.foreign, slot.vertices);
     ensure(slot.acc, std::size_t(slot.vertices) * 3);
-    std::uint32_t owned = 0, border = 0;
+    std::uint32_t owned = 0, border = 0, foreign = 0;
     for (std::uint32_t v = 0; v < slot.vertices; ++v) {
         const std::uint64_t key = slot.keys[v];
         if (owner_of(key) != b) {
             slot.rank[v] = kForeign;
+            slot.foreign[foreign++] = v;
             continue;
         }
         slot.rank[v] = owned;
@@ -335,6 +336,7 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
               [](const BorderEntry& x, const BorderEntry& y) { return x.key < y.key; });
     slot.owned = owned;
     slot.border_n = border;
+    slot.foreign_n = foreign;
 }
 
 void SlicesExtractor::weld_offsets(SurfaceMesh& out) {
@@ -410,8 +412,8 @@ void SlicesExtractor::borders(SurfaceMesh& out) {
     float* verts = out.vertices6.data();
     for (std::uint32_t a = 0; a < active_count_; ++a) {  // border contributions, in block order
         const BlockSlot& s = slots_[a];
-        for (std::uint32_t v = 0; v < s.vertices; ++v) {
-            if (s.rank[v] != kForeign) continue;
+        for (std::uint32_t q = 0; q < s.foreign_n; ++q) {
+            const std::uint32_t v = s.foreign[q];
             const std::size_t f = s.final_index[v];
             for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] += s.acc[std::size_t(v) * 3 + c];
         }

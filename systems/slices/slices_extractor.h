@@ -97,9 +97,10 @@ class SlicesExtractor {
         AlignedArray<std::uint32_t> triangles;
         AlignedArray<std::uint32_t> rank;  // owned rank, or kForeign
         AlignedArray<std::uint32_t> final_index;
-        AlignedArray<BorderEntry> border;  // owned vertices other blocks may refer to, sorted by key
-        AlignedArray<float> acc;           // normal accumulators, 3 per vertex
-        std::uint32_t vertices = 0, triangles_n = 0, owned = 0, border_n = 0;
+        AlignedArray<BorderEntry> border;     // owned vertices other blocks may refer to, sorted by key
+        AlignedArray<std::uint32_t> foreign;  // vertices other blocks own, ascending (borders)
+        AlignedArray<float> acc;              // normal accumulators, 3 per vertex
+        std::uint32_t vertices = 0, triangles_n = 0, owned = 0, border_n = 0, foreign_n = 0;
         std::uint32_t particles = 0, cache_entries = 0;  // what the block's sweep scratch had to hold
         std::uint64_t vertex_offset = 0, triangle_offset = 0;
         BlockSweepStats sweep;
