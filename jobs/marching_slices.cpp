@@ -40,7 +40,7 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     if (tag == 1) std::fill(s.edges.begin(), s.edges.end(), 0u);  // a new cycle of edge tags
     const std::uint32_t live_tag = tag << kEdgeVertexBits, vertex_bits = (1u << kEdgeVertexBits) - 1;
 
-    // World z of each slice, for corner and column evaluations (padded: column runs read up to four).
+    // World z of each slice, for corner and column evaluations (padded: column runs read up to eight).
     std::array<float, kMaxBlockCubes + 8> column_z{};
     for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
     auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
@@ -98,7 +98,7 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         std::int32_t& run_hi = s.walk_hi[col];
         if (lk >= run_lo && lk <= run_hi) return true;  // inside a run already walked
         const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
-        // Corner values four slices at a time downwards (one pass over the column's entries each).
+        // Corner values RunLanes slices at a time downwards (one pass over the column's entries each).
         float run[RunLanes];
         std::int32_t run_top = -1, run_bottom = 0;
         auto inside_at = [&](std::int32_t k) {

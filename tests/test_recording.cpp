@@ -127,7 +127,9 @@ TEST(Recording, ReplayMatchesAtOneAndTwoThreadsAndCatchesAPerturbedInputAtItsFra
 // The golden recordings were made with the commands in docs/recording.md; re-make them when a change to
 // the simulation or the surface is intended. They replay identically at 1 and 2 threads, and the scan
 // ones also with the baseline (SSE2) builds of the scan kernels that have an AVX2 build
-// (jobs/cpu_dispatch.h; marching slices has none).
+// (jobs/cpu_dispatch.h). Marching slices' two builds are compared block by block instead
+// (test_marching_slices, Avx2AndBaselineBuildsSweepTheSameBytes), which keeps this test well inside its
+// time limit under TSan.
 TEST(Recording, GoldenRecordingsReplayIdenticallyAtOneAndTwoThreadsAndWithoutAvx2) {
     for (const char* name : {"fountain_scan", "faucet_scan", "faucet_slices", "dambreak_small_slices"}) {
         const std::string path = std::string(RIVULET_SOURCE_DIR) + "/tests/golden/" + name + ".rivrec";
