@@ -5,6 +5,7 @@
 // operation per lane, so results are the same bytes either way.
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -20,10 +21,13 @@ struct F4 {
 inline F4 load(const float* p) {
     return {_mm_loadu_ps(p)};
 }
-// Lanes a[0], a[1], b[0], b[1].
+// Lanes a[0], a[1], b[0], b[1]. Each pair is copied as 8 bytes (floats are only 4-byte aligned, so it
+// must not be read through a double*); compilers turn this into two 8-byte loads.
 inline F4 load_pairs(const float* a, const float* b) {
-    const __m128d lo = _mm_load_sd(reinterpret_cast<const double*>(a));
-    return {_mm_castpd_ps(_mm_loadh_pd(lo, reinterpret_cast<const double*>(b)))};
+    double lo = 0, hi = 0;
+    std::memcpy(&lo, a, sizeof lo);
+    std::memcpy(&hi, b, sizeof hi);
+    return {_mm_castpd_ps(_mm_set_pd(hi, lo))};
 }
 inline void store(float* p, F4 a) {
     _mm_storeu_ps(p, a.v);
