@@ -402,26 +402,22 @@ BlockSweepStats march_block_baseline(const SliceGrid& g, std::uint32_t bi, std::
                                shared);
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
 // flatten: the body's lambdas and the column kernel are inlined here, so they are built for AVX2 too.
-__attribute__((target("avx2"), flatten)) static BlockSweepStats march_block_avx2(
+RIVULET_AVX2 [[gnu::flatten]] static BlockSweepStats march_block_avx2(
     const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk, float iso,
     const LookupCacheView& cache, ConstPositions particles, const SliceScratch& s, const BlockMeshOut& out,
     bool exhaustive, unsigned empty_neighbours, const SharedFaces& shared) {
     return march_block_body<8>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
                                shared);
 }
-#endif
 
 BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
                             const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
                             unsigned empty_neighbours, const SharedFaces& shared) {
-#if defined(__x86_64__) && defined(__GNUC__)
     if (cpu_has_avx2())
         return march_block_avx2(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
                                 shared);
-#endif
     return march_block_baseline(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
                                 shared);
 }
