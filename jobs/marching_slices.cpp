@@ -4,9 +4,9 @@
 #include <array>
 #include <atomic>
 
+#include "jobs/bit_rows.h"
 #include "jobs/cpu_dispatch.h"
 #include "jobs/marching_tables.h"
-#include "jobs/simd4.h"
 
 namespace rivulet {
 namespace {
@@ -17,12 +17,13 @@ constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's lim
 // seed walks and the x/y face scans, whose runs are long (8 in the AVX2 build, 4 in the baseline). The
 // sweep's own runs stay at four slices: it rarely needs more of a column. Either build gives the same
 // bits (cache_column).
-template <int RunLanes>
+template <int W, int RunLanes>
 RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj,
                                                 std::uint32_t bk, float iso, const LookupCacheView& cache,
                                                 ConstPositions particles, const SliceScratch& s,
                                                 const BlockMeshOut& out, bool exhaustive,
                                                 unsigned empty_neighbours, const SharedFaces& shared) {
+    using Row = BitRow<W>;
     const MarchingTables& mt = marching_tables();
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n, n1 = n + 1, cols = n1 * n1;
@@ -30,19 +31,15 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
                        k0 = static_cast<std::int32_t>(bk * n);
     BlockSweepStats st;
 
-    std::uint32_t gen = ++*s.generation;
-    if (gen == 0) {  // stamps wrapped: clear them once
-        std::fill(s.cube_stamp.begin(), s.cube_stamp.end(), 0u);
-        std::fill(s.edges.begin(), s.edges.end(), 0u);  // generation 1 restarts the tags mid-cycle
-        gen = *s.generation = 1;
-    }
-    const std::uint32_t tag = edge_tag(gen);
-    if (tag == 1) std::fill(s.edges.begin(), s.edges.end(), 0u);  // a new cycle of edge tags
-    const std::uint32_t live_tag = tag << kEdgeVertexBits, vertex_bits = (1u << kEdgeVertexBits) - 1;
-
-    // World z of each slice, for corner and column evaluations (padded: column runs read up to eight).
+    // World coordinates of the block's corner planes, as every corner computes them (SliceGrid::cx/cy/cz);
+    // z padded: column runs read up to eight slices.
+    std::array<float, kMaxBlockCubes + 1> plane_x{}, plane_y{};
     std::array<float, kMaxBlockCubes + 8> column_z{};
-    for (std::uint32_t k = 0; k <= n; ++k) column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
+    for (std::uint32_t k = 0; k <= n; ++k) {
+        plane_x[k] = g.cx(i0 + static_cast<std::int32_t>(k));
+        plane_y[k] = g.cy(j0 + static_cast<std::int32_t>(k));
+        column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
+    }
     auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
         return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), column_z[k], f);
     };
@@ -54,35 +51,33 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         return v;
     };
 
-    // ---- per-slab todo lists ----
-    // Cube (i, j, k) has stamp (k+1, j+1, i+1) in the bordered array; slab k's list is todo row k + 1,
-    // whose count is count[k + 1]. Queueing is branch-free: the entry is always written at the list's
-    // end (one spare slot per row) and kept only when the cube is in the block and new.
-    const std::uint32_t p1 = n + 2, slab_cap = n * n + 1;
-    std::uint32_t* const stamp = s.cube_stamp.data();
-    std::uint32_t* const todo = s.todo.data();
-    std::uint32_t* const count = s.todo_count.data();
-    std::fill(count, count + p1, 0u);
+    // ---- the queue: per slab, rows of cubes queued (the todo list) and ever queued ----
+    std::uint64_t* const queued = s.slab_rows.data();  // slab k, row j: (k * n + j) * W
+    std::uint64_t* const seen = queued + std::size_t(n) * n * W;
+    std::int32_t* const range_lo = s.slab_range.data();  // rows of slab k that may hold queued cubes
+    std::int32_t* const range_hi = range_lo + n;
+    std::fill(queued, queued + 2 * std::size_t(n) * n * W, std::uint64_t(0));
+    std::fill(range_lo, range_lo + n, std::int32_t(n));
+    std::fill(range_hi, range_hi + n, std::int32_t(-1));
     std::int32_t lowest = static_cast<std::int32_t>(n);  // lowest slab that may hold work
-    // Stamps cube `at` (bordered index) when `take` and it is not stamped yet; 1 when it was new.
-    auto claim = [&](std::uint32_t at, bool take) {
-        const std::uint32_t old = stamp[at];
-        const bool fresh = take && old != gen;
-        stamp[at] = fresh ? gen : old;
-        return fresh ? 1u : 0u;
+    const Row cube_row = low_bits<W>(n);
+    // Queues the cubes `bits` of slab k, row j that were never queued.
+    auto queue_row = [&](std::uint32_t k, std::uint32_t j, Row bits) {
+        std::uint64_t* const seen_at = seen + (std::size_t(k) * n + j) * W;
+        const Row was = load_row<W>(seen_at), fresh = and_not(bits, was);
+        if (!any(fresh)) return;
+        store_row<W>(seen_at, was | fresh);
+        std::uint64_t* const queued_at = queued + (std::size_t(k) * n + j) * W;
+        store_row<W>(queued_at, load_row<W>(queued_at) | fresh);
+        range_lo[k] = std::min(range_lo[k], std::int32_t(j));
+        range_hi[k] = std::max(range_hi[k], std::int32_t(j));
+        lowest = std::min(lowest, std::int32_t(k));
     };
-    auto push = [&](std::int32_t i, std::int32_t j, std::int32_t k) {  // i, j, k in [-1, n]
-        const std::uint32_t row = static_cast<std::uint32_t>(k + 1);
-        const std::uint32_t at =
-            (row * p1 + static_cast<std::uint32_t>(j + 1)) * p1 + static_cast<std::uint32_t>(i + 1);
-        const bool in_block = static_cast<std::uint32_t>(i) < n && static_cast<std::uint32_t>(j) < n &&
-                              static_cast<std::uint32_t>(k) < n;
-        const std::uint32_t fresh = claim(at, in_block);
-        // Queued as j << 8 | i (n <= 128): unpacking needs no division by the runtime n.
-        todo[row * slab_cap + count[row]] =
-            static_cast<std::uint32_t>(j) << 8 | static_cast<std::uint32_t>(i & 0xff);
-        count[row] += fresh;
-        lowest = fresh && k < lowest ? k : lowest;
+    auto push = [&](std::int32_t i, std::int32_t j, std::int32_t k) {  // a cube outside the block is skipped
+        if (static_cast<std::uint32_t>(i) >= n || static_cast<std::uint32_t>(j) >= n ||
+            static_cast<std::uint32_t>(k) >= n)
+            return;
+        queue_row(std::uint32_t(k), std::uint32_t(j), single_bit<W>(std::uint32_t(i)));
     };
 
     // ---- seeds 1: walk down from each particle's nearest corner ----
@@ -212,10 +207,10 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         const SharedFace& sf = shared[2 * a + side];
         if (sf.state != nullptr) {
             std::atomic_ref<std::uint32_t> state(*sf.state);
-            std::uint32_t seen = state.load(std::memory_order_acquire);
-            if (seen == kFaceDone) return sf.bits;
-            if (seen == kFaceFree &&
-                state.compare_exchange_strong(seen, kFaceBusy, std::memory_order_acquire)) {
+            std::uint32_t now = state.load(std::memory_order_acquire);
+            if (now == kFaceDone) return sf.bits;
+            if (now == kFaceFree &&
+                state.compare_exchange_strong(now, kFaceBusy, std::memory_order_acquire)) {
                 fill_face(a, side, sf.bits);
                 state.store(kFaceDone, std::memory_order_release);
                 return sf.bits;
@@ -225,7 +220,6 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         return s.face_bits.data();
     };
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {g.bx, g.by, g.bz};
-    const std::uint64_t last_cells = (n % 64) ? (std::uint64_t(1) << (n % 64)) - 1 : ~std::uint64_t(0);
     for (std::uint32_t a = 0; a < 3; ++a)
         for (std::uint32_t side = 0; side < 2; ++side) {
             if (side == 0 && bidx[a] == 0) continue;                // outer grid face: no surface there
@@ -233,163 +227,259 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
             if (empty_neighbours >> (2 * a + side) & 1u) continue;  // F = 0 on the whole face
             const std::int32_t plane = static_cast<std::int32_t>(side * n);
             if (plane < near_lo[a] || plane > near_hi[a]) continue;  // no particle reaches it: F = 0
-            const std::uint32_t u = (a + 1) % 3, w = (a + 2) % 3;
             const std::uint64_t* const bits = face_bits(a, side);
-            // A face cell is crossed when its four corners (bits u, u + 1 of rows w, w + 1) differ.
+            // A face cell is crossed when its four corners (bits u, u + 1 of rows w, w + 1) differ; u, w are
+            // the next two axes after a.
             for (std::uint32_t cw = 0; cw < n; ++cw) {
                 const std::uint64_t* r0 = bits + cw * stride;
                 const std::uint64_t* r1 = r0 + stride;
-                for (std::uint32_t t = 0; t < words && t * 64 < n; ++t) {
+                Row crossed;
+                for (std::uint32_t t = 0; t < W; ++t) {
                     const std::uint64_t a0 = r0[t], a1 = r0[t] >> 1 | r0[t + 1] << 63;
                     const std::uint64_t b0 = r1[t], b1 = r1[t] >> 1 | r1[t + 1] << 63;
-                    std::uint64_t crossed = (a0 | a1 | b0 | b1) & ~(a0 & a1 & b0 & b1);
-                    if ((t + 1) * 64 >= n) crossed &= last_cells;  // cells u < n only
-                    for (; crossed != 0; crossed &= crossed - 1) {
-                        const std::uint32_t cu =
-                            t * 64 + static_cast<std::uint32_t>(__builtin_ctzll(crossed));
-                        std::int32_t cube[3];
-                        cube[a] = side ? std::int32_t(n) - 1 : 0;
-                        cube[u] = std::int32_t(cu), cube[w] = std::int32_t(cw);
-                        push(cube[0], cube[1], cube[2]);
-                        ++st.seeds;
-                    }
+                    crossed.w[t] = (a0 | a1 | b0 | b1) & ~(a0 & a1 & b0 & b1);
                 }
+                crossed = crossed & cube_row;  // cells u < n only
+                st.seeds += popcount(crossed);
+                const std::uint32_t edge_cube = side ? n - 1 : 0;
+                if (a == 2) {  // u = x, w = y: a row of cubes
+                    queue_row(edge_cube, cw, crossed);
+                    continue;
+                }
+                for_each_bit(crossed, [&](std::uint32_t cu) {
+                    if (a == 0)  // u = y, w = z
+                        queue_row(cw, cu, single_bit<W>(edge_cube));
+                    else  // a = 1: u = z, w = x
+                        queue_row(cu, edge_cube, single_bit<W>(cw));
+                });
             }
         }
 
-    // ---- slice caches ----
+    // ---- slice caches: corner values, with rows of the corners computed and inside ----
+    std::uint64_t* const computed = s.slice_rows.data();  // slice t, row r: (t * n1 + r) * W
+    std::uint64_t* const inside = computed + std::size_t(n1) * n1 * W;
+    std::array<float*, kMaxBlockCubes + 1> value{};  // null while the slice is not taken
+    std::array<std::int32_t, kMaxBlockCubes + 1> slot_of{}, free_slot{};
     std::int32_t free_count = static_cast<std::int32_t>(n1);
-    for (std::uint32_t k = 0; k < n1; ++k) s.slice_slot[k] = -1, s.free_slots[k] = std::int32_t(k);
+    for (std::uint32_t t = 0; t < n1; ++t) free_slot[t] = std::int32_t(t);
     std::uint32_t live = 0, lowest_live = n1;
-    auto slice = [&](std::uint32_t k) -> float* {
-        std::int32_t slot = s.slice_slot[k];
-        if (slot < 0) {
-            slot = s.free_slots[--free_count];
-            s.slice_slot[k] = slot;
-            float* v = s.slices.data() + std::size_t(slot) * cols;
-            std::fill(v, v + cols, -1.0f);  // F >= 0: negative means not computed yet
-            ++st.slice_fills;
-            st.peak_slices = std::max(st.peak_slices, ++live);
-            lowest_live = std::min(lowest_live, k);
-        }
-        return s.slices.data() + std::size_t(slot) * cols;
+    auto take = [&](std::uint32_t t) {
+        if (value[t] != nullptr) return;
+        const std::int32_t slot = free_slot[std::size_t(--free_count)];
+        slot_of[t] = slot;
+        value[t] = s.slices.data() + std::size_t(slot) * cols;
+        std::fill(computed + std::size_t(t) * n1 * W, computed + std::size_t(t + 1) * n1 * W,
+                  std::uint64_t(0));
+        std::fill(inside + std::size_t(t) * n1 * W, inside + std::size_t(t + 1) * n1 * W, std::uint64_t(0));
+        ++st.slice_fills;
+        st.peak_slices = std::max(st.peak_slices, ++live);
+        lowest_live = std::min(lowest_live, t);
     };
     auto release_below = [&](std::uint32_t k) {
         for (; lowest_live < k; ++lowest_live)
-            if (s.slice_slot[lowest_live] >= 0) {
-                s.free_slots[free_count++] = s.slice_slot[lowest_live];
-                s.slice_slot[lowest_live] = -1;
+            if (value[lowest_live] != nullptr) {
+                free_slot[std::size_t(free_count++)] = slot_of[lowest_live];
+                value[lowest_live] = nullptr;
                 --live;
             }
     };
+    // F at column (i, r) for slices [from, from + 3] (up to the top slice): one pass over the column's
+    // entries, so the slabs above in this column mostly find their corners done. Recomputing a known
+    // corner gives the same bits.
+    constexpr std::uint32_t kSweepRun = 4;
+    auto evaluate = [&](std::uint32_t i, std::uint32_t r, std::uint32_t from) {
+        const std::uint32_t to = std::min(from + kSweepRun - 1, n);
+        float run[kSweepRun];
+        cache_column(cache, n, i, r, static_cast<std::int32_t>(from), static_cast<std::int32_t>(to),
+                     column_z.data() + from, f, run);
+        const std::size_t word = r * W + i / 64;
+        const std::uint64_t bit = std::uint64_t(1) << (i % 64);
+        for (std::uint32_t t = from; t <= to; ++t) {
+            const float v = run[t - from];
+            value[t][r * n1 + i] = v;
+            computed[std::size_t(t) * n1 * W + word] |= bit;
+            inside[std::size_t(t) * n1 * W + word] |= v >= iso ? bit : 0;
+        }
+    };
 
-    // ---- the sweep ----
+    // ---- vertices: one per crossed edge, created once per block ----
+    std::uint64_t* const made = s.edge_rows.data();  // slice t, axis a, row r: ((t * 3 + a) * n1 + r) * W
+    std::fill(made, made + 3 * std::size_t(n1) * n1 * W, std::uint64_t(0));
+    std::uint32_t* const edges = s.edges.data();
     const std::uint32_t max_vertices =
         static_cast<std::uint32_t>(std::min(out.positions.size() / 3, out.keys.size()));
     const std::uint32_t max_triangles = static_cast<std::uint32_t>(out.triangles.size() / 3);
-    // Cube-relative offsets of the 12 edges' slots.
+    float* const positions = out.positions.data();
+    std::uint64_t* const keys = out.keys.data();
+    // The vertex on the edge from corner (i, r, t) along `axis`, whose corners hold lo and hi.
+    auto create = [&](std::uint32_t axis, std::uint32_t i, std::uint32_t r, std::uint32_t t, float lo,
+                      float hi) {
+        if (st.vertices == max_vertices) {
+            st.overflow = true;
+            return;
+        }
+        const std::uint32_t id = st.vertices++;
+        edges[((std::size_t(t) * n1 + r) * n1 + i) * 3 + axis] = id;
+        float p[3] = {plane_x[i], plane_y[r], column_z[t]};
+        p[axis] = edge_crossing(p[axis], g.voxel, lo, hi, iso);
+        positions[std::size_t(id) * 3 + 0] = p[0];
+        positions[std::size_t(id) * 3 + 1] = p[1];
+        positions[std::size_t(id) * 3 + 2] = p[2];
+        keys[id] = edge_key(static_cast<std::uint32_t>(i0) + i, static_cast<std::uint32_t>(j0) + r,
+                            static_cast<std::uint32_t>(k0) + t, axis);
+    };
+    // Edges of corner row r in slice t along `axis` that have no vertex yet among `want`; marks them.
+    auto claim_edges = [&](std::uint32_t t, std::uint32_t axis, std::uint32_t r, Row want) {
+        std::uint64_t* const at = made + ((std::size_t(t) * 3 + axis) * n1 + r) * W;
+        const Row was = load_row<W>(at), fresh = and_not(want, was);
+        store_row<W>(at, was | fresh);
+        return fresh;
+    };
+
+    // Cube-relative edge slots, and for each case the slot of every triangle corner.
     std::uint32_t edge_offset[12];
     for (std::uint32_t e = 0; e < 12; ++e) {
         const std::uint32_t lc = mt.edge_corner[e][0];
         edge_offset[e] =
             (((lc >> 2) & 1u) * n1 * n1 + ((lc >> 1) & 1u) * n1 + (lc & 1u)) * 3 + mt.edge_axis[e];
     }
+
+    // ---- the sweep: the lowest slab with queued cubes first ----
+    std::uint64_t* const frontier = s.work_rows.data();
+    std::uint64_t* const visit = frontier + std::size_t(n) * W;
+    std::fill(visit, visit + std::size_t(n) * W, std::uint64_t(0));
+    auto row = [](const std::uint64_t* base, std::size_t r) { return load_row<W>(base + r * W); };
     const std::int32_t top = static_cast<std::int32_t>(n);
-    const simd::F4 iso4 = simd::splat(iso);
     for (;;) {
-        while (lowest < top && count[lowest + 1] == 0) ++lowest;
+        while (lowest < top && range_lo[lowest] > range_hi[lowest]) ++lowest;
         if (lowest >= top) break;
         const std::uint32_t k = static_cast<std::uint32_t>(lowest);
         release_below(k);
-        const std::uint32_t queued = todo[(k + 1) * slab_cap + --count[k + 1]];
-        const std::uint32_t i = queued & 0xffu, j = queued >> 8;
-        ++st.cubes;
+        for (std::uint32_t t = k; t <= std::min(k + kSweepRun, n); ++t) take(t);
+        const std::uint64_t* const comp_lo = computed + std::size_t(k) * n1 * W;
+        const std::uint64_t* const comp_hi = comp_lo + std::size_t(n1) * W;
+        const std::uint64_t* const in_lo = inside + std::size_t(k) * n1 * W;
+        const std::uint64_t* const in_hi = in_lo + std::size_t(n1) * W;
 
-        float* lower = slice(k);
-        float* upper = slice(k + 1);
-        // The cube's corners c = 0..3 (i + (c & 1), j + (c >> 1)) below and c + 4 above, four to a vector.
-        const std::uint32_t corner0 = j * n1 + i;
-        simd::F4 below = simd::load_pairs(lower + corner0, lower + corner0 + n1);
-        simd::F4 above = simd::load_pairs(upper + corner0, upper + corner0 + n1);
-        if ((simd::sign_mask(below) | simd::sign_mask(above)) != 0) {  // some corner not computed yet
-            for (unsigned c = 0; c < 4; ++c) {
-                const std::uint32_t ci = i + (c & 1u), cj = j + (c >> 1), cat = cj * n1 + ci;
-                if (lower[cat] >= 0.0f && upper[cat] >= 0.0f) continue;
-                // A run of up to four slices of the column from the first missing one: one pass over the
-                // column's entries, and the cubes above in this column (the sweep's next slabs) mostly
-                // find their corners done. Recomputing a known corner gives the same bits.
-                const std::uint32_t from = lower[cat] < 0.0f ? k : k + 1, to = std::min(from + 3, n);
-                float run[4];
-                cache_column(cache, n, ci, cj, static_cast<std::int32_t>(from), static_cast<std::int32_t>(to),
-                             column_z.data() + from, f, run);
-                for (std::uint32_t t = from; t <= to; ++t) slice(t)[cat] = run[t - from];
+        // Flood the slab: every round takes the queued cubes, computes their missing corners and queues
+        // the neighbours across the faces they share with the surface (the slabs above and below too).
+        std::int32_t visit_lo = top, visit_hi = -1;
+        while (range_lo[k] <= range_hi[k]) {
+            const std::int32_t r_lo = range_lo[k], r_hi = range_hi[k];
+            range_lo[k] = top, range_hi[k] = -1;
+            for (std::int32_t j = r_lo; j <= r_hi; ++j) {
+                std::uint64_t* const q = queued + (std::size_t(k) * n + std::size_t(j)) * W;
+                const Row cubes = load_row<W>(q);
+                store_row<W>(q, Row{});
+                store_row<W>(frontier + std::size_t(j) * W, cubes);
+                store_row<W>(visit + std::size_t(j) * W, row(visit, std::size_t(j)) | cubes);
             }
-            below = simd::load_pairs(lower + corner0, lower + corner0 + n1);
-            above = simd::load_pairs(upper + corner0, upper + corner0 + n1);
-        }
-        const unsigned mask = simd::geq_mask(below, iso4) | simd::geq_mask(above, iso4) << 4;
-        float v[8];
-        simd::store(v, below), simd::store(v + 4, above);
-        const std::uint32_t ntri = mt.triangle_count[mask];
-        if (st.triangles + ntri > max_triangles) {
-            st.overflow = true;
-            return st;
-        }
-        const std::size_t base = ((std::size_t(k) * n1 + j) * n1 + i) * 3;
-        std::uint32_t vid[12];
-        for (std::uint32_t q = 0; q < mt.edge_count[mask]; ++q) {
-            const auto e = static_cast<std::uint32_t>(mt.edge_order[mask][q]);
-            std::uint32_t& slot = s.edges[base + edge_offset[e]];
-            if ((slot & ~vertex_bits) == live_tag) {
-                vid[e] = slot & vertex_bits;
-                continue;
+            visit_lo = std::min(visit_lo, r_lo), visit_hi = std::max(visit_hi, r_hi);
+            for (std::int32_t r = r_lo; r <= r_hi + 1; ++r) {
+                Row cubes = r <= r_hi ? row(frontier, std::size_t(r)) : Row{};  // cubes of rows r - 1 and r
+                if (r > r_lo) cubes = cubes | row(frontier, std::size_t(r - 1));
+                const Row need = cubes | shl1(cubes);
+                const Row miss_lo = and_not(need, row(comp_lo, std::size_t(r)));
+                const Row miss_hi = and_not(need, row(comp_hi, std::size_t(r)));
+                for_each_bit(miss_lo, [&](std::uint32_t i) { evaluate(i, std::uint32_t(r), k); });
+                for_each_bit(and_not(miss_hi, miss_lo),
+                             [&](std::uint32_t i) { evaluate(i, std::uint32_t(r), k + 1); });
             }
-            if (st.vertices == max_vertices) {
-                st.overflow = true;
-                return st;
+            for (std::int32_t j = r_lo; j <= r_hi; ++j) {
+                const Row cubes = row(frontier, std::size_t(j));
+                if (!any(cubes)) continue;
+                const auto uj = static_cast<std::uint32_t>(j);
+                // Corner rows j and j + 1 of the slab's bottom (a, b) and top (c, d) slices.
+                const Row a = row(in_lo, uj), b = row(in_lo, uj + 1), c = row(in_hi, uj),
+                          d = row(in_hi, uj + 1);
+                const Row x_faces = mixed(a, b, c, d);  // bit i: the face at corner column i
+                queue_row(k, uj, shr1(cubes & x_faces) | (shl1(cubes & shr1(x_faces)) & cube_row));
+                if (uj > 0) queue_row(k, uj - 1, cubes & mixed(a, shr1(a), c, shr1(c)));
+                if (uj + 1 < n) queue_row(k, uj + 1, cubes & mixed(b, shr1(b), d, shr1(d)));
+                if (k > 0) queue_row(k - 1, uj, cubes & mixed(a, shr1(a), b, shr1(b)));
+                if (k + 1 < n) queue_row(k + 1, uj, cubes & mixed(c, shr1(c), d, shr1(d)));
             }
-            const std::uint32_t id = st.vertices++;
-            slot = live_tag | id;
-            vid[e] = id;
-            const std::uint32_t axis = mt.edge_axis[e], lc = mt.edge_corner[e][0], hc = mt.edge_corner[e][1];
-            const std::int32_t gi = i0 + std::int32_t(i + (lc & 1u)),
-                               gj = j0 + std::int32_t(j + ((lc >> 1) & 1u)),
-                               gk = k0 + std::int32_t(k + ((lc >> 2) & 1u));
-            float p[3] = {g.cx(gi), g.cy(gj), g.cz(gk)};
-            p[axis] = edge_crossing(p[axis], g.voxel, v[lc], v[hc], iso);
-            out.positions[std::size_t(id) * 3 + 0] = p[0];
-            out.positions[std::size_t(id) * 3 + 1] = p[1];
-            out.positions[std::size_t(id) * 3 + 2] = p[2];
-            out.keys[id] = edge_key(static_cast<std::uint32_t>(gi), static_cast<std::uint32_t>(gj),
-                                    static_cast<std::uint32_t>(gk), axis);
         }
-        std::uint32_t* tri = out.triangles.data() + std::size_t(st.triangles) * 3;
-        for (std::uint32_t t = 0; t < ntri * 3; ++t)
-            tri[t] = vid[static_cast<std::uint32_t>(mt.triangles[mask][t])];
-        st.triangles += ntri;
-        // Follow the surface across every face it crosses, queueing neighbours in the order -x, +x, -y,
-        // +y (this slab), -z (the slab below), +z (above); the same lists as six push calls, with the
-        // slab's count updated once.
-        const unsigned crossed = mt.crossed_faces[mask];
-        const std::uint32_t row = k + 1, at = (row * p1 + j + 1) * p1 + i + 1, layer = p1 * p1;
-        const std::uint32_t mx = claim(at - 1, (crossed & 1u) && i > 0),
-                            px = claim(at + 1, (crossed & 2u) && i + 1 < n),
-                            my = claim(at - p1, (crossed & 4u) && j > 0),
-                            py = claim(at + p1, (crossed & 8u) && j + 1 < n),
-                            mz = claim(at - layer, (crossed & 16u) && k > 0),
-                            pz = claim(at + layer, (crossed & 32u) && k + 1 < n);
-        std::uint32_t* list = todo + row * slab_cap;
-        std::uint32_t c = count[row];
-        list[c] = j << 8 | ((i - 1) & 0xffu), c += mx;  // i - 1 wraps when i = 0: written, not kept
-        list[c] = j << 8 | (i + 1), c += px;
-        list[c] = (j - 1) << 8 | i, c += my;
-        list[c] = (j + 1) << 8 | i, c += py;
-        count[row] = c;
-        todo[(row - 1) * slab_cap + count[row - 1]] = j << 8 | i, count[row - 1] += mz;
-        todo[(row + 1) * slab_cap + count[row + 1]] = j << 8 | i, count[row + 1] += pz;
-        lowest = mz ? lowest - 1 : lowest;  // lowest == k here
+        if (visit_lo > visit_hi) continue;
+
+        // Vertices on the crossed edges of the visited cubes that have none yet (edges shared with cubes
+        // visited before keep theirs), row by row: x and y edges of the bottom and top slices, z edges.
+        const float* const lower = value[k];
+        const float* const upper = value[k + 1];
+        for (std::int32_t r = visit_lo; r <= visit_hi + 1; ++r) {
+            const auto ur = static_cast<std::uint32_t>(r);
+            Row cubes = r <= visit_hi ? row(visit, ur) : Row{};  // cubes of rows r - 1 and r
+            if (r > visit_lo) cubes = cubes | row(visit, ur - 1);
+            const Row own_row = r <= visit_hi ? row(visit, ur) : Row{};  // y edges: cubes of row r
+            for (std::uint32_t t = k; t <= k + 1; ++t) {
+                const float* const v = t == k ? lower : upper;
+                const std::uint64_t* const in_t = t == k ? in_lo : in_hi;
+                const Row here = row(in_t, ur);
+                const Row x_new = claim_edges(t, 0, ur, cubes & (here ^ shr1(here)));
+                for_each_bit(
+                    x_new, [&](std::uint32_t i) { create(0, i, ur, t, v[ur * n1 + i], v[ur * n1 + i + 1]); });
+                if (ur < n) {
+                    const Row y_new =
+                        claim_edges(t, 1, ur, (own_row | shl1(own_row)) & (here ^ row(in_t, ur + 1)));
+                    for_each_bit(y_new, [&](std::uint32_t i) {
+                        create(1, i, ur, t, v[ur * n1 + i], v[(ur + 1) * n1 + i]);
+                    });
+                }
+            }
+            const Row z_new =
+                claim_edges(k, 2, ur, (cubes | shl1(cubes)) & (row(in_lo, ur) ^ row(in_hi, ur)));
+            for_each_bit(
+                z_new, [&](std::uint32_t i) { create(2, i, ur, k, lower[ur * n1 + i], upper[ur * n1 + i]); });
+        }
+        if (st.overflow) return st;
+
+        // Triangles of the visited cubes, row by row; the case is read off the corner rows.
+        std::uint32_t* const tris = out.triangles.data();
+        for (std::int32_t j = visit_lo; j <= visit_hi; ++j) {
+            const auto uj = static_cast<std::uint32_t>(j);
+            const Row cubes = row(visit, uj);
+            store_row<W>(visit + std::size_t(uj) * W, Row{});
+            const Row a = row(in_lo, uj), b = row(in_lo, uj + 1), c = row(in_hi, uj), d = row(in_hi, uj + 1);
+            const std::uint32_t* const slots = edges + (std::size_t(k) * n1 + uj) * n1 * 3;
+            st.cubes += popcount(cubes);
+            for_each_bit(cubes, [&](std::uint32_t i) {
+                const std::uint32_t mask =
+                    two_bits(a, i) | two_bits(b, i) << 2 | two_bits(c, i) << 4 | two_bits(d, i) << 6;
+                const std::uint32_t ntri = mt.triangle_count[mask];
+                if (st.triangles + ntri > max_triangles) {
+                    st.overflow = true;
+                    return;
+                }
+                const std::uint32_t* const cube_slots = slots + i * 3;
+                std::uint32_t* const tri = tris + std::size_t(st.triangles) * 3;
+                for (std::uint32_t q = 0; q < ntri * 3; ++q)
+                    tri[q] = cube_slots[edge_offset[static_cast<std::uint32_t>(mt.triangles[mask][q])]];
+                st.triangles += ntri;
+            });
+            if (st.overflow) return st;
+        }
     }
     return st;
+}
+
+// The body for the row width the block edge needs (one word a row up to 63 cubes).
+template <int RunLanes>
+RIVULET_INLINE BlockSweepStats march_block_rows(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj,
+                                                std::uint32_t bk, float iso, const LookupCacheView& cache,
+                                                ConstPositions particles, const SliceScratch& s,
+                                                const BlockMeshOut& out, bool exhaustive,
+                                                unsigned empty_neighbours, const SharedFaces& shared) {
+    switch (row_words(g.n)) {
+        case 1:
+            return march_block_body<1, RunLanes>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive,
+                                                 empty_neighbours, shared);
+        case 2:
+            return march_block_body<2, RunLanes>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive,
+                                                 empty_neighbours, shared);
+        default:
+            return march_block_body<3, RunLanes>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive,
+                                                 empty_neighbours, shared);
+    }
 }
 
 }  // namespace
@@ -398,7 +488,7 @@ BlockSweepStats march_block_baseline(const SliceGrid& g, std::uint32_t bi, std::
                                      float iso, const LookupCacheView& cache, ConstPositions particles,
                                      const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
                                      unsigned empty_neighbours, const SharedFaces& shared) {
-    return march_block_body<4>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
+    return march_block_rows<4>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
                                shared);
 }
 
@@ -407,7 +497,7 @@ RIVULET_AVX2 [[gnu::flatten]] static BlockSweepStats march_block_avx2(
     const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk, float iso,
     const LookupCacheView& cache, ConstPositions particles, const SliceScratch& s, const BlockMeshOut& out,
     bool exhaustive, unsigned empty_neighbours, const SharedFaces& shared) {
-    return march_block_body<8>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
+    return march_block_rows<8>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
                                shared);
 }
 

@@ -1,10 +1,14 @@
 #pragma once
 // Surface-following marching cubes inside one block ("marching slices", Rosenberg & Birdwell 2008, seed
 // 004 §3.2.3). The block's n^3 cubes form n slabs between n+1 slices (planes of constant z). Each slab
-// has a todo list of cubes to visit; the sweep always takes a cube from the lowest slab whose list is not
-// empty, polygonises it and queues every neighbour across a face the surface crosses. Corner values live
-// in slice caches that are taken from a small pool when a slab first needs them and given back as soon
-// as the sweep has moved above them (recomputed, identically, should the surface lead back down).
+// has a todo list of queued cubes, kept as rows of bits (bit_rows.h). The sweep always works on the
+// lowest slab whose list is not empty: it floods it, round by round taking its queued cubes, computing
+// their missing corners and queueing every neighbour across a face the surface crosses (in the slabs
+// above and below too), all as word operations on bit rows; then it creates the vertices on the crossed
+// edges of the cubes it visited and writes their triangles, row by row. A cube is queued at most once
+// per block. Corner values live in slice caches that are taken from a small pool when a slab first
+// needs them and given back as soon as the sweep has moved above them (recomputed, identically, should
+// the surface lead back down).
 //
 // Seeds, all found before the sweep:
 //  1. the O(P) heuristic: from the corner nearest each particle's centre, walk down the column to the
@@ -21,8 +25,10 @@
 //     A face between two non-empty blocks is scanned by whichever of them gets to it first, which
 //     publishes its bits for the other (SharedFace).
 //
-// Vertices are shared within the block through an edge table; each carries its global edge key so the
-// extractor can weld block borders.
+// Vertices are shared within the block through an edge table (one vertex per crossed edge, created once
+// per block); each carries its global edge key so the extractor can weld block borders. The cubes a
+// block visits are the closure of its seeds under "shares a crossed face", whatever the order of
+// visiting, so the triangles are those of plain marching cubes over the same cubes.
 #include <array>
 #include <cstdint>
 #include <span>
@@ -33,28 +39,23 @@
 
 namespace rivulet {
 
-// The block-local vertex on one cube edge: tag << 24 | vertex, live when tag equals the sweep's edge tag
-// (edge_tag). Four bytes a slot keep the two slice layers a sweep works in within L1 for blocks of 32^3
-// cubes; a block has fewer than 2^24 edges (3 * 129^3 at the largest block size).
-constexpr std::uint32_t kEdgeVertexBits = 24;
-// Tags cycle through 1..255, one per block sweep; the slots are cleared when a cycle starts (tag 1).
-inline std::uint32_t edge_tag(std::uint32_t generation) {
-    return generation % 255u + 1u;
+// Words of one bit row for block edge n: a row holds n + 1 corners (bit_rows.h).
+constexpr std::uint32_t row_words(std::uint32_t n) {
+    return (n + 1 + 63) / 64;
 }
 
-// Scratch of one block sweep, for block edge n (sizes in comments); reusable across blocks. Cubes and
-// slabs carry a border of one (index -1 and n) so that queueing a neighbour needs no bounds branch.
+// Scratch of one block sweep, for block edge n and W = row_words(n) (sizes in comments); reusable across
+// blocks, nothing in it needs clearing between them.
 struct SliceScratch {
-    std::span<float> slices;                   // (n+1) * (n+1)^2: slice cache pool
-    std::span<std::int32_t> slice_slot;        // n+1: pool slot of each slice, -1 when released
-    std::span<std::int32_t> free_slots;        // n+1
+    std::span<float> slices;                   // (n+1) * (n+1)^2: slice cache pool (corner values)
     std::span<std::uint64_t> face_bits;        // (n+1) * face_words(n): one block face at a time
-    std::span<std::uint32_t> cube_stamp;       // (n+2)^3, border included
-    std::span<std::uint32_t> edges;            // 3 (n+1)^3
-    std::span<std::uint32_t> todo;             // (n+2) * (n^2+1): per-slab todo lists, border slabs too
-    std::span<std::uint32_t> todo_count;       // n+2
+    std::span<std::uint64_t> slice_rows;       // 2 (n+1)^2 W: per slice, rows of corners computed and inside
+    std::span<std::uint64_t> slab_rows;        // 2 n^2 W: per slab, rows of cubes queued and ever queued
+    std::span<std::uint64_t> edge_rows;        // 3 (n+1)^2 W: per slice and axis, rows of edges with a vertex
+    std::span<std::uint64_t> work_rows;        // 2 n W: the slab's frontier and the cubes it visited
+    std::span<std::int32_t> slab_range;        // 2 n: per slab, the rows that may hold queued cubes
+    std::span<std::uint32_t> edges;            // 3 (n+1)^3: the vertex on each edge with a vertex
     std::span<std::int32_t> walk_lo, walk_hi;  // (n+1)^2: inside run already walked per column
-    std::uint32_t* generation;                 // stamps equal to *generation are live; starts at 0
 };
 
 struct BlockMeshOut {
@@ -71,15 +72,16 @@ struct BlockSweepStats {
 
 // Scratch sizes for block edge n.
 struct SliceScratchSizes {
-    std::size_t slices, slots, face_bits, cubes, edges, todo, slabs, columns;
+    std::size_t slices, face_bits, slice_rows, slab_rows, edge_rows, work_rows, slab_range, edges, columns;
     explicit SliceScratchSizes(std::uint32_t n)
         : slices(std::size_t(n + 1) * (n + 1) * (n + 1)),
-          slots(n + 1),
           face_bits(std::size_t(n + 1) * ((n + 1 + 63) / 64 + 1)),  // a zero word closes each row
-          cubes(std::size_t(n + 2) * (n + 2) * (n + 2)),
+          slice_rows(2 * std::size_t(n + 1) * (n + 1) * row_words(n)),
+          slab_rows(2 * std::size_t(n) * n * row_words(n)),
+          edge_rows(3 * std::size_t(n + 1) * (n + 1) * row_words(n)),
+          work_rows(2 * std::size_t(n) * row_words(n)),
+          slab_range(2 * std::size_t(n)),
           edges(3 * std::size_t(n + 1) * (n + 1) * (n + 1)),
-          todo(std::size_t(n + 2) * (std::size_t(n) * n + 1)),
-          slabs(n + 2),
           columns(std::size_t(n + 1) * (n + 1)) {}
 };
 

@@ -3,9 +3,7 @@
 // (early-exit searches that need a hit mask). SSE2 is part of x86-64, so no -march flag is needed; other
 // targets get the same results from the scalar fallback. Every operation is an exactly rounded IEEE
 // operation per lane, so results are the same bytes either way.
-#include <cmath>
 #include <cstdint>
-#include <cstring>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -20,17 +18,6 @@ struct F4 {
 };
 inline F4 load(const float* p) {
     return {_mm_loadu_ps(p)};
-}
-// Lanes a[0], a[1], b[0], b[1]. Each pair is copied as 8 bytes (floats are only 4-byte aligned, so it
-// must not be read through a double*); compilers turn this into two 8-byte loads.
-inline F4 load_pairs(const float* a, const float* b) {
-    double lo = 0, hi = 0;
-    std::memcpy(&lo, a, sizeof lo);
-    std::memcpy(&hi, b, sizeof hi);
-    return {_mm_castpd_ps(_mm_set_pd(hi, lo))};
-}
-inline void store(float* p, F4 a) {
-    _mm_storeu_ps(p, a.v);
 }
 inline F4 splat(float x) {
     return {_mm_set1_ps(x)};
@@ -48,14 +35,6 @@ inline F4 operator*(F4 a, F4 b) {
 inline unsigned less_mask(F4 a, F4 b) {
     return static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(a.v, b.v)));
 }
-// Bit k set where lane k of a is greater than or equal to lane k of b.
-inline unsigned geq_mask(F4 a, F4 b) {
-    return static_cast<unsigned>(_mm_movemask_ps(_mm_cmpge_ps(a.v, b.v)));
-}
-// Bit k set where lane k has its sign bit set (-0.0 and negative values, NaNs with the sign bit).
-inline unsigned sign_mask(F4 a) {
-    return static_cast<unsigned>(_mm_movemask_ps(a.v));
-}
 
 #else
 
@@ -64,12 +43,6 @@ struct F4 {
 };
 inline F4 load(const float* p) {
     return {{p[0], p[1], p[2], p[3]}};
-}
-inline F4 load_pairs(const float* a, const float* b) {
-    return {{a[0], a[1], b[0], b[1]}};
-}
-inline void store(float* p, F4 a) {
-    for (unsigned k = 0; k < 4; ++k) p[k] = a.v[k];
 }
 inline F4 splat(float x) {
     return {{x, x, x, x}};
@@ -86,16 +59,6 @@ inline F4 operator*(F4 a, F4 b) {
 inline unsigned less_mask(F4 a, F4 b) {
     unsigned m = 0;
     for (unsigned k = 0; k < 4; ++k) m |= static_cast<unsigned>(a.v[k] < b.v[k]) << k;
-    return m;
-}
-inline unsigned geq_mask(F4 a, F4 b) {
-    unsigned m = 0;
-    for (unsigned k = 0; k < 4; ++k) m |= static_cast<unsigned>(a.v[k] >= b.v[k]) << k;
-    return m;
-}
-inline unsigned sign_mask(F4 a) {
-    unsigned m = 0;
-    for (unsigned k = 0; k < 4; ++k) m |= static_cast<unsigned>(std::signbit(a.v[k])) << k;
     return m;
 }
 

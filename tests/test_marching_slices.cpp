@@ -437,10 +437,9 @@ namespace {
 struct SweepBuffers {
     SliceScratchSizes z;
     std::vector<float> slices;
-    std::vector<std::int32_t> slot, free_slots, walk_lo, walk_hi;
-    std::vector<std::uint64_t> face_bits;
-    std::vector<std::uint32_t> stamps, edges, todo, todo_count;
-    std::uint32_t generation = 0;
+    std::vector<std::uint64_t> face_bits, slice_rows, slab_rows, edge_rows, work_rows;
+    std::vector<std::int32_t> slab_range, walk_lo, walk_hi;
+    std::vector<std::uint32_t> edges;
     std::vector<float> positions = std::vector<float>(3 * 20000);
     std::vector<std::uint64_t> keys = std::vector<std::uint64_t>(20000);
     std::vector<std::uint32_t> triangles = std::vector<std::uint32_t>(3 * 40000);
@@ -448,15 +447,25 @@ struct SweepBuffers {
     explicit SweepBuffers(const SliceGrid& g)
         : z(g.n),
           slices(z.slices),
-          slot(z.slots),
-          free_slots(z.slots),
+          face_bits(z.face_bits),
+          slice_rows(z.slice_rows),
+          slab_rows(z.slab_rows),
+          edge_rows(z.edge_rows),
+          work_rows(z.work_rows),
+          slab_range(z.slab_range),
           walk_lo(z.columns),
           walk_hi(z.columns),
-          face_bits(z.face_bits),
-          stamps(z.cubes),
-          edges(z.edges),
-          todo(z.todo),
-          todo_count(z.slabs) {}
+          edges(z.edges) {}
+    SliceScratch view() {
+        return {slices,    face_bits,  slice_rows, slab_rows, edge_rows,
+                work_rows, slab_range, edges,      walk_lo,   walk_hi};
+    }
+    // Every scratch word set to `bits` (output buffers untouched).
+    void fill(std::uint32_t bits) {
+        auto set = [bits](auto& v) { std::memset(v.data(), int(bits & 0xff), v.size() * sizeof(v[0])); };
+        set(slices), set(face_bits), set(slice_rows), set(slab_rows), set(edge_rows), set(work_rows);
+        set(slab_range), set(walk_lo), set(walk_hi), set(edges);
+    }
 };
 
 // What one sweep of a block gives: its vertices, its triangles and how many seeds it queued.
@@ -475,8 +484,7 @@ Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, con
     const SliceGrid& g = caches.g;
     const std::uint32_t bi = block % g.bx, bj = (block / g.bx) % g.by, bk = block / (g.bx * g.by);
     const LookupCacheView cache = caches.build(bi, bj, bk);
-    const SliceScratch scratch{b.slices, b.slot,       b.free_slots, b.face_bits, b.stamps,     b.edges,
-                               b.todo,   b.todo_count, b.walk_lo,    b.walk_hi,   &b.generation};
+    const SliceScratch scratch = b.view();
     const BlockMeshOut out{b.positions, b.keys, b.triangles};
     const BlockSweepStats st =
         build == Build::kBaseline
@@ -505,28 +513,18 @@ std::uint64_t crossed_face_cells(const std::vector<std::uint64_t>& bits, std::ui
 
 }  // namespace
 
-// A sweep scratch tags its edge slots with one of 255 values per block and clears them when the tags
-// start over, and clears its cube stamps and slots when the 32-bit generation wraps. One block swept
-// from fresh scratch, then again from scratch full of slots and stamps that would be live if those
-// clears were missing: the same mesh.
-TEST(MarchingSlices, SweepClearsStaleSlotsWhenItsTagsStartOver) {
+// A sweep's scratch needs no clearing between blocks: each block swept from zeroed scratch, then from
+// scratch whose every byte is 0xff (every row bit set, every edge slot and range a bogus value): the same
+// mesh.
+TEST(MarchingSlices, SweepNeedsNoClearedScratch) {
     BlockCaches caches;
     SweepBuffers buf(caches.g);
     std::size_t swept = 0;
     for (std::uint32_t b = 0; b < caches.g.blocks(); ++b) {
-        buf.generation = 0;
-        std::fill(buf.stamps.begin(), buf.stamps.end(), 0u),
-            std::fill(buf.edges.begin(), buf.edges.end(), 0u);
+        buf.fill(0);
         const Swept fresh = sweep_block(caches, buf, b);
         if (fresh.triangles.empty()) continue;
-        // Next generation 255: tag 1 starts a cycle; every slot holds tag 1 and a bogus vertex.
-        buf.generation = 254;
-        std::fill(buf.edges.begin(), buf.edges.end(), (1u << kEdgeVertexBits) | 12345u);
-        EXPECT_EQ(sweep_block(caches, buf, b), fresh) << "block " << b;
-        // The generation wraps to 1 (tag 2): stamps of 1 and slots of tag 2 are stale.
-        buf.generation = 0xffffffffu;
-        std::fill(buf.stamps.begin(), buf.stamps.end(), 1u);
-        std::fill(buf.edges.begin(), buf.edges.end(), (2u << kEdgeVertexBits) | 12345u);
+        buf.fill(0xff);
         EXPECT_EQ(sweep_block(caches, buf, b), fresh) << "block " << b;
         ++swept;
     }

@@ -28,37 +28,26 @@ struct SlicesExtractor::Scratch {
     AlignedArray<ColumnEntry> entries;
     AlignedArray<std::uint16_t> rows;
     AlignedArray<float> slices;
-    AlignedArray<std::uint64_t> face_bits;
-    AlignedArray<std::int32_t> slice_slot, free_slots, walk_lo, walk_hi;
-    AlignedArray<std::uint32_t> cube_stamp, todo, todo_count;
+    AlignedArray<std::uint64_t> face_bits, slice_rows, slab_rows, edge_rows, work_rows;
+    AlignedArray<std::int32_t> slab_range, walk_lo, walk_hi;
     AlignedArray<std::uint32_t> edges;
-    std::uint32_t generation = 0;
 
     explicit Scratch(const SliceGrid& g) {
         const SliceScratchSizes z(g.n);
         sort_counts.reserve(lookup_sort_slots(g));
         column_offsets.reserve(z.columns + 1);
         slices.reserve(z.slices), face_bits.reserve(z.face_bits);
-        slice_slot.reserve(z.slots), free_slots.reserve(z.slots);
+        slice_rows.reserve(z.slice_rows), slab_rows.reserve(z.slab_rows), edge_rows.reserve(z.edge_rows);
+        work_rows.reserve(z.work_rows), slab_range.reserve(z.slab_range);
         walk_lo.reserve(z.columns), walk_hi.reserve(z.columns);
-        cube_stamp.reserve(z.cubes), edges.reserve(z.edges);
-        std::fill(cube_stamp.data(), cube_stamp.data() + z.cubes, 0u);
-        std::fill(edges.data(), edges.data() + z.edges, 0u);
-        todo.reserve(z.todo), todo_count.reserve(z.slabs);
+        edges.reserve(z.edges);
     }
     SliceScratch view(const SliceGrid& g) {
         const SliceScratchSizes z(g.n);
-        return {slices.span(z.slices),
-                slice_slot.span(z.slots),
-                free_slots.span(z.slots),
-                face_bits.span(z.face_bits),
-                cube_stamp.span(z.cubes),
-                edges.span(z.edges),
-                todo.span(z.todo),
-                todo_count.span(z.slabs),
-                walk_lo.span(z.columns),
-                walk_hi.span(z.columns),
-                &generation};
+        return {slices.span(z.slices),         face_bits.span(z.face_bits), slice_rows.span(z.slice_rows),
+                slab_rows.span(z.slab_rows),   edge_rows.span(z.edge_rows), work_rows.span(z.work_rows),
+                slab_range.span(z.slab_range), edges.span(z.edges),         walk_lo.span(z.columns),
+                walk_hi.span(z.columns)};
     }
 };
 
