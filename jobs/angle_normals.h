@@ -6,10 +6,16 @@
 
 namespace rivulet {
 
-// acc3[3 v ..] = sum over triangles of (angle at v) * (unit face normal), for positions3 / triangles
-// (3 indices each). acc3 is overwritten (3 floats per vertex). Degenerate triangles add nothing.
-void accumulate_angle_normals(std::span<const float> positions3, std::span<const std::uint32_t> triangles,
-                              std::span<float> acc3);
+// acc4[4 v ..] = sum over triangles of (angle at v) * (unit face normal) and 0, for positions4 (x, y, z
+// and a pad per vertex) / triangles (3 indices each); acc4 is overwritten (4 floats per vertex). Four
+// floats a vertex make a triangle corner one vector load and one vector add. Degenerate triangles add
+// nothing. Sums run in triangle order.
+void accumulate_angle_normals(std::span<const float> positions4, std::span<const std::uint32_t> triangles,
+                              std::span<float> acc4);
+// The x86-64 baseline build (four triangles per vector), which accumulate_angle_normals runs where the CPU
+// lacks AVX2 (eight per vector); tests compare the two byte for byte.
+void accumulate_angle_normals_baseline(std::span<const float> positions4,
+                                       std::span<const std::uint32_t> triangles, std::span<float> acc4);
 
 // Normalises n (3 floats) in place; a zero vector becomes (0, 1, 0), +y up.
 void normalize_or_up(float* n);

@@ -307,7 +307,7 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     std::fill(made, made + 3 * std::size_t(n1) * n1 * W, std::uint64_t(0));
     std::uint32_t* const edges = s.edges.data();
     const std::uint32_t max_vertices =
-        static_cast<std::uint32_t>(std::min(out.positions.size() / 3, out.keys.size()));
+        static_cast<std::uint32_t>(std::min(out.positions.size() / 4, out.keys.size()));
     const std::uint32_t max_triangles = static_cast<std::uint32_t>(out.triangles.size() / 3);
     float* const positions = out.positions.data();
     std::uint64_t* const keys = out.keys.data();
@@ -322,9 +322,8 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         edges[((std::size_t(t) * n1 + r) * n1 + i) * 3 + axis] = id;
         float p[3] = {plane_x[i], plane_y[r], column_z[t]};
         p[axis] = edge_crossing(p[axis], g.voxel, lo, hi, iso);
-        positions[std::size_t(id) * 3 + 0] = p[0];
-        positions[std::size_t(id) * 3 + 1] = p[1];
-        positions[std::size_t(id) * 3 + 2] = p[2];
+        float* const at = positions + std::size_t(id) * 4;
+        at[0] = p[0], at[1] = p[1], at[2] = p[2], at[3] = 0.0f;
         keys[id] = edge_key(static_cast<std::uint32_t>(i0) + i, static_cast<std::uint32_t>(j0) + r,
                             static_cast<std::uint32_t>(k0) + t, axis);
     };

@@ -59,7 +59,7 @@ struct SliceScratch {
 };
 
 struct BlockMeshOut {
-    std::span<float> positions;  // 3 per vertex
+    std::span<float> positions;  // 4 per vertex: x, y, z, 0 (angle_normals.h)
     std::span<std::uint64_t> keys;
     std::span<std::uint32_t> triangles;  // 3 per triangle, block-local vertex indices
 };

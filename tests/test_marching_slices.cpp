@@ -440,7 +440,7 @@ struct SweepBuffers {
     std::vector<std::uint64_t> face_bits, slice_rows, slab_rows, edge_rows, work_rows;
     std::vector<std::int32_t> slab_range, walk_lo, walk_hi;
     std::vector<std::uint32_t> edges;
-    std::vector<float> positions = std::vector<float>(3 * 20000);
+    std::vector<float> positions = std::vector<float>(4 * 20000);
     std::vector<std::uint64_t> keys = std::vector<std::uint64_t>(20000);
     std::vector<std::uint32_t> triangles = std::vector<std::uint32_t>(3 * 40000);
 
@@ -492,7 +492,7 @@ Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, con
                                    shared)
             : march_block(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch, out, false, 0, shared);
     EXPECT_FALSE(st.overflow);
-    return {std::vector<float>(b.positions.begin(), b.positions.begin() + 3 * std::ptrdiff_t(st.vertices)),
+    return {std::vector<float>(b.positions.begin(), b.positions.begin() + 4 * std::ptrdiff_t(st.vertices)),
             std::vector<std::uint32_t>(b.triangles.begin(),
                                        b.triangles.begin() + 3 * std::ptrdiff_t(st.triangles)),
             st.seeds};

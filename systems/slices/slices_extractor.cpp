@@ -286,7 +286,7 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     const SliceScratch scratch = s.view(grid_);
     for (;;) {
         if (slot.positions.capacity() == 0) {
-            slot.positions.reserve(3 * 1024), slot.keys.reserve(1024), slot.triangles.reserve(3 * 2048);
+            slot.positions.reserve(4 * 1024), slot.keys.reserve(1024), slot.triangles.reserve(3 * 2048);
         }
         slot.sweep =
             march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
@@ -303,7 +303,7 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     // Ownership: rank the vertices this block owns; list those on its min faces for the neighbours.
     ensure(slot.rank, slot.vertices), ensure(slot.final_index, slot.vertices),
         ensure(slot.border, slot.vertices), ensure(slot.foreign, slot.vertices);
-    ensure(slot.acc, std::size_t(slot.vertices) * 3);
+    ensure(slot.acc, std::size_t(slot.vertices) * 4);
     std::uint32_t owned = 0, border = 0, foreign = 0;
     for (std::uint32_t v = 0; v < slot.vertices; ++v) {
         const std::uint64_t key = slot.keys[v];
@@ -362,7 +362,7 @@ void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
             const std::uint64_t f = s.vertex_offset + s.rank[v];
             s.final_index[v] = static_cast<std::uint32_t>(f);
             for (int c = 0; c < 3; ++c)
-                verts[f * 6 + std::size_t(c)] = s.positions[std::size_t(v) * 3 + std::size_t(c)];
+                verts[f * 6 + std::size_t(c)] = s.positions[std::size_t(v) * 4 + std::size_t(c)];
             continue;
         }
         const std::uint64_t key = s.keys[v];
@@ -386,14 +386,14 @@ void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
 
 void SlicesExtractor::normals_block(std::uint32_t item, SurfaceMesh& out) {
     BlockSlot& s = slots_[item];
-    accumulate_angle_normals(s.positions.span(std::size_t(s.vertices) * 3),
+    accumulate_angle_normals(s.positions.span(std::size_t(s.vertices) * 4),
                              s.triangles.span(std::size_t(s.triangles_n) * 3),
-                             s.acc.span(std::size_t(s.vertices) * 3));
+                             s.acc.span(std::size_t(s.vertices) * 4));
     float* verts = out.vertices6.data();
     for (std::uint32_t v = 0; v < s.vertices; ++v) {
         if (s.rank[v] == kForeign) continue;
         const std::size_t f = s.final_index[v];
-        for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] = s.acc[std::size_t(v) * 3 + c];
+        for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] = s.acc[std::size_t(v) * 4 + c];
     }
 }
 
@@ -404,7 +404,7 @@ void SlicesExtractor::borders(SurfaceMesh& out) {
         for (std::uint32_t q = 0; q < s.foreign_n; ++q) {
             const std::uint32_t v = s.foreign[q];
             const std::size_t f = s.final_index[v];
-            for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] += s.acc[std::size_t(v) * 3 + c];
+            for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] += s.acc[std::size_t(v) * 4 + c];
         }
     }
 }
