@@ -306,11 +306,13 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     std::uint64_t* const made = s.edge_rows.data();  // slice t, axis a, row r: ((t * 3 + a) * n1 + r) * W
     std::fill(made, made + 3 * std::size_t(n1) * n1 * W, std::uint64_t(0));
     std::uint32_t* const edges = s.edges.data();
-    const std::uint32_t max_vertices =
-        static_cast<std::uint32_t>(std::min(out.positions.size() / 4, out.keys.size()));
+    const std::uint32_t max_vertices = static_cast<std::uint32_t>(
+        std::min({out.positions.size() / 4, out.rank.size(), out.border.size(), out.foreign.size()}));
     const std::uint32_t max_triangles = static_cast<std::uint32_t>(out.triangles.size() / 3);
     float* const positions = out.positions.data();
-    std::uint64_t* const keys = out.keys.data();
+    // A corner index on the block's max plane belongs to the next block, except in the last block of the
+    // grid (whose max planes no surface reaches: the grid has a margin).
+    const bool last[3] = {bi + 1 == g.bx, bj + 1 == g.by, bk + 1 == g.bz};
     // The vertex on the edge from corner (i, r, t) along `axis`, whose corners hold lo and hi.
     auto create = [&](std::uint32_t axis, std::uint32_t i, std::uint32_t r, std::uint32_t t, float lo,
                       float hi) {
@@ -324,8 +326,19 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         p[axis] = edge_crossing(p[axis], g.voxel, lo, hi, iso);
         float* const at = positions + std::size_t(id) * 4;
         at[0] = p[0], at[1] = p[1], at[2] = p[2], at[3] = 0.0f;
-        keys[id] = edge_key(static_cast<std::uint32_t>(i0) + i, static_cast<std::uint32_t>(j0) + r,
-                            static_cast<std::uint32_t>(k0) + t, axis);
+        const std::uint64_t key =
+            edge_key(static_cast<std::uint32_t>(i0) + i, static_cast<std::uint32_t>(j0) + r,
+                     static_cast<std::uint32_t>(k0) + t, axis);
+        const bool owned = (i < n || last[0]) && (r < n || last[1]) && (t < n || last[2]);
+        if (!owned) {
+            out.rank[id] = kForeignVertex;
+            out.foreign[st.foreign++] = {key, id};
+            return;
+        }
+        auto on_plane = [n](std::uint32_t c) { return c == 0 || c == n; };
+        if ((axis != 0 && on_plane(i)) || (axis != 1 && on_plane(r)) || (axis != 2 && on_plane(t)))
+            out.border[st.border++] = {key, st.owned};
+        out.rank[id] = st.owned++;
     };
     // Edges of corner row r in slice t along `axis` that have no vertex yet among `want`; marks them.
     auto claim_edges = [&](std::uint32_t t, std::uint32_t axis, std::uint32_t r, Row want) {

@@ -441,8 +441,10 @@ struct SweepBuffers {
     std::vector<std::int32_t> slab_range, walk_lo, walk_hi;
     std::vector<std::uint32_t> edges;
     std::vector<float> positions = std::vector<float>(4 * 20000);
-    std::vector<std::uint64_t> keys = std::vector<std::uint64_t>(20000);
     std::vector<std::uint32_t> triangles = std::vector<std::uint32_t>(3 * 40000);
+    std::vector<std::uint32_t> rank = std::vector<std::uint32_t>(20000);
+    std::vector<KeyedVertex> border = std::vector<KeyedVertex>(20000),
+                             foreign = std::vector<KeyedVertex>(20000);
 
     explicit SweepBuffers(const SliceGrid& g)
         : z(g.n),
@@ -485,7 +487,7 @@ Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, con
     const std::uint32_t bi = block % g.bx, bj = (block / g.bx) % g.by, bk = block / (g.bx * g.by);
     const LookupCacheView cache = caches.build(bi, bj, bk);
     const SliceScratch scratch = b.view();
-    const BlockMeshOut out{b.positions, b.keys, b.triangles};
+    const BlockMeshOut out{b.positions, b.triangles, b.rank, b.border, b.foreign};
     const BlockSweepStats st =
         build == Build::kBaseline
             ? march_block_baseline(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch, out, false, 0,

@@ -13,8 +13,6 @@
 namespace rivulet {
 namespace {
 
-constexpr std::uint32_t kForeign = std::numeric_limits<std::uint32_t>::max();
-
 // Grows `a` to hold `n` (rare; allocates), without keeping its contents.
 template <class T>
 void ensure(AlignedArray<T>& a, std::size_t n) {
@@ -284,48 +282,31 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     // The sweep (run again with more room in the rare case the block's mesh outgrew its buffers).
     BlockSlot& slot = slots_[item];
     const SliceScratch scratch = s.view(grid_);
+    auto grow = [&slot](std::size_t vertices, std::size_t triangles) {
+        slot.positions.reserve(4 * vertices), slot.triangles.reserve(3 * triangles);
+        slot.rank.reserve(vertices), slot.border.reserve(vertices), slot.foreign.reserve(vertices);
+    };
+    if (slot.positions.capacity() == 0) grow(1024, 2048);
     for (;;) {
-        if (slot.positions.capacity() == 0) {
-            slot.positions.reserve(4 * 1024), slot.keys.reserve(1024), slot.triangles.reserve(3 * 2048);
-        }
+        const std::size_t room = slot.rank.capacity();
         slot.sweep =
             march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
-                        {slot.positions.span(slot.positions.capacity()), slot.keys.span(slot.keys.capacity()),
-                         slot.triangles.span(slot.triangles.capacity())},
+                        {slot.positions.span(4 * room), slot.triangles.span(slot.triangles.capacity()),
+                         slot.rank.span(room), slot.border.span(room), slot.foreign.span(room)},
                         settings_.exhaustive_seeds, empty_neighbours, shared);
         if (!slot.sweep.overflow) break;
-        slot.positions.reserve(slot.positions.capacity() * 2), slot.keys.reserve(slot.keys.capacity() * 2);
-        slot.triangles.reserve(slot.triangles.capacity() * 2);
+        grow(2 * room, 2 * slot.triangles.capacity() / 3);
     }
     slot.vertices = slot.sweep.vertices;
     slot.triangles_n = slot.sweep.triangles;
-
-    // Ownership: rank the vertices this block owns; list those on its min faces for the neighbours.
-    ensure(slot.rank, slot.vertices), ensure(slot.final_index, slot.vertices),
-        ensure(slot.border, slot.vertices), ensure(slot.foreign, slot.vertices);
+    slot.owned = slot.sweep.owned;
+    slot.border_n = slot.sweep.border;
+    slot.foreign_n = slot.sweep.foreign;
+    ensure(slot.final_index, slot.vertices);
     ensure(slot.acc, std::size_t(slot.vertices) * 4);
-    std::uint32_t owned = 0, border = 0, foreign = 0;
-    for (std::uint32_t v = 0; v < slot.vertices; ++v) {
-        const std::uint64_t key = slot.keys[v];
-        if (owner_of(key) != b) {
-            slot.rank[v] = kForeign;
-            slot.foreign[foreign++] = v;
-            continue;
-        }
-        slot.rank[v] = owned;
-        std::uint32_t i = 0, j = 0, k = 0, axis = 0;
-        edge_key_corner(key, i, j, k, axis);
-        auto on_block_face = [&](std::uint32_t c) { return c == div_n(c) * grid_.n; };
-        const bool on_min = (axis != 0 && on_block_face(i)) || (axis != 1 && on_block_face(j)) ||
-                            (axis != 2 && on_block_face(k));
-        if (on_min) slot.border[border++] = {key, owned};
-        ++owned;
-    }
-    std::sort(slot.border.data(), slot.border.data() + border,
-              [](const BorderEntry& x, const BorderEntry& y) { return x.key < y.key; });
-    slot.owned = owned;
-    slot.border_n = border;
-    slot.foreign_n = foreign;
+    // The neighbours look this block's border vertices up by key.
+    std::sort(slot.border.data(), slot.border.data() + slot.border_n,
+              [](const KeyedVertex& x, const KeyedVertex& y) { return x.key < y.key; });
 }
 
 void SlicesExtractor::weld_offsets(SurfaceMesh& out) {
@@ -358,27 +339,27 @@ void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
     BlockSlot& s = slots_[item];
     float* verts = out.vertices6.data();
     for (std::uint32_t v = 0; v < s.vertices; ++v) {
-        if (s.rank[v] != kForeign) {
-            const std::uint64_t f = s.vertex_offset + s.rank[v];
-            s.final_index[v] = static_cast<std::uint32_t>(f);
-            for (int c = 0; c < 3; ++c)
-                verts[f * 6 + std::size_t(c)] = s.positions[std::size_t(v) * 4 + std::size_t(c)];
-            continue;
-        }
-        const std::uint64_t key = s.keys[v];
-        const std::int32_t owner = block_to_active_[owner_of(key)];
+        if (s.rank[v] == kForeignVertex) continue;
+        const std::uint64_t f = s.vertex_offset + s.rank[v];
+        s.final_index[v] = static_cast<std::uint32_t>(f);
+        for (int c = 0; c < 3; ++c)
+            verts[f * 6 + std::size_t(c)] = s.positions[std::size_t(v) * 4 + std::size_t(c)];
+    }
+    for (std::uint32_t q = 0; q < s.foreign_n; ++q) {
+        const KeyedVertex& fv = s.foreign[q];
+        const std::int32_t owner = block_to_active_[owner_of(fv.key)];
         const BlockSlot* o = owner >= 0 ? &slots_[std::size_t(owner)] : nullptr;
-        const BorderEntry* it = nullptr;
+        const KeyedVertex* it = nullptr;
         if (o) {
-            it = std::lower_bound(o->border.data(), o->border.data() + o->border_n, key,
-                                  [](const BorderEntry& e, std::uint64_t k) { return e.key < k; });
-            if (it == o->border.data() + o->border_n || it->key != key) it = nullptr;
+            it = std::lower_bound(o->border.data(), o->border.data() + o->border_n, fv.key,
+                                  [](const KeyedVertex& e, std::uint64_t k) { return e.key < k; });
+            if (it == o->border.data() + o->border_n || it->key != fv.key) it = nullptr;
         }
         if (!it)
             throw std::logic_error(fmt::format(
                 "marching slices: block {} refers to a border vertex its owner block did not produce",
                 active_[item]));
-        s.final_index[v] = static_cast<std::uint32_t>(o->vertex_offset + it->rank);
+        s.final_index[fv.index] = static_cast<std::uint32_t>(o->vertex_offset + it->index);
     }
     std::uint32_t* idx = out.indices.data() + s.triangle_offset * 3;
     for (std::size_t t = 0; t < std::size_t(s.triangles_n) * 3; ++t) idx[t] = s.final_index[s.triangles[t]];
@@ -391,7 +372,7 @@ void SlicesExtractor::normals_block(std::uint32_t item, SurfaceMesh& out) {
                              s.acc.span(std::size_t(s.vertices) * 4));
     float* verts = out.vertices6.data();
     for (std::uint32_t v = 0; v < s.vertices; ++v) {
-        if (s.rank[v] == kForeign) continue;
+        if (s.rank[v] == kForeignVertex) continue;
         const std::size_t f = s.final_index[v];
         for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] = s.acc[std::size_t(v) * 4 + c];
     }
@@ -402,7 +383,7 @@ void SlicesExtractor::borders(SurfaceMesh& out) {
     for (std::uint32_t a = 0; a < active_count_; ++a) {  // border contributions, in block order
         const BlockSlot& s = slots_[a];
         for (std::uint32_t q = 0; q < s.foreign_n; ++q) {
-            const std::uint32_t v = s.foreign[q];
+            const std::uint32_t v = s.foreign[q].index;
             const std::size_t f = s.final_index[v];
             for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] += s.acc[std::size_t(v) * 4 + c];
         }

@@ -87,19 +87,14 @@ class SlicesExtractor {
     const SlicesStats& stats() const { return stats_; }
 
   private:
-    struct BorderEntry {
-        std::uint64_t key;
-        std::uint32_t rank;
-    };
     struct BlockSlot {
         AlignedArray<float> positions;  // 4 per vertex (x, y, z, 0)
-        AlignedArray<std::uint64_t> keys;
         AlignedArray<std::uint32_t> triangles;
-        AlignedArray<std::uint32_t> rank;  // owned rank, or kForeign
+        AlignedArray<std::uint32_t> rank;  // owned rank, or kForeignVertex
         AlignedArray<std::uint32_t> final_index;
-        AlignedArray<BorderEntry> border;     // owned vertices other blocks may refer to, sorted by key
-        AlignedArray<std::uint32_t> foreign;  // vertices other blocks own, ascending (borders)
-        AlignedArray<float> acc;              // normal accumulators, 4 per vertex
+        AlignedArray<KeyedVertex> border;   // owned vertices other blocks may refer to, sorted by key
+        AlignedArray<KeyedVertex> foreign;  // vertices other blocks own, ascending (borders)
+        AlignedArray<float> acc;            // normal accumulators, 4 per vertex
         std::uint32_t vertices = 0, triangles_n = 0, owned = 0, border_n = 0, foreign_n = 0;
         std::uint32_t particles = 0, cache_entries = 0;  // what the block's sweep scratch had to hold
         std::uint64_t vertex_offset = 0, triangle_offset = 0;
