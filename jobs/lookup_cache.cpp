@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <array>
 
+#include "jobs/simd4.h"
+
 namespace rivulet {
 namespace {
 
 constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's limit on block_cubes
 constexpr std::uint16_t kEmptyRow = 0x00ff;    // i_lo = 255 > i_hi = 0
+constexpr std::uint32_t kWindow = 64;          // columns tested per window of row tests (16 x 4 lanes)
 
 }  // namespace
 
@@ -21,9 +24,13 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     const std::uint32_t np = static_cast<std::uint32_t>(p.size());
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t row_slots = static_cast<std::uint32_t>(lookup_row_slots(g));
+    const std::uint32_t groups = lookup_groups(g);
+    std::uint32_t* const ends = offsets.data() + std::size_t(groups) * cols;  // counts, cursors, then ends
 
-    // Column axes, computed once as every corner computes them (SliceGrid::cx / cy).
-    std::array<float, kMaxBlockCubes + 1> axis_x{}, axis_y{};
+    // Column axes, computed once as every corner computes them (SliceGrid::cx / cy); x padded for the
+    // four-lane row tests (the padding lanes are masked off).
+    std::array<float, kMaxBlockCubes + 1 + kWindow> axis_x{};
+    std::array<float, kMaxBlockCubes + 1> axis_y{};
     for (std::int32_t i = 0; i <= n; ++i)
         axis_x[std::size_t(i)] = g.cx(i0 + i), axis_y[std::size_t(i)] = g.cy(j0 + i);
 
@@ -48,15 +55,18 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     // Pass 1: per particle (in sorted order) and row of its reach box, the run of columns within R_c
     // (row_slots rows from the box's first row; a row is one interval: dx * dx grows with |dx|); count
     // the entries per column. Pass 2 places them without repeating the distance tests.
-    std::fill(offsets.begin(), offsets.begin() + cols + 1, 0u);
+    std::fill(ends, ends + cols, 0u);
     auto box_j = [&](float y) { return SliceGrid::cell(y, g.oy, g.voxel) - j0 - g.reach; };
+    auto cz_listed = [&](std::int32_t cz) { return cz + g.reach + 1 >= 0 && cz - g.reach <= n; };
+    std::array<simd::F4, (kMaxBlockCubes + 1 + 3) / 4> dx2;
+    const simd::F4 rc2v = simd::splat(f.rc2);
     for (std::uint32_t o = 0; o < np; ++o) {
         const std::uint32_t q = s.order[o];
         const float x = p.x[q], y = p.y[q], z = p.z[q];
         std::uint16_t* rows = s.rows.data() + std::size_t(o) * row_slots;
         std::fill(rows, rows + row_slots, kEmptyRow);
         const std::int32_t cz = SliceGrid::cell(z, g.oz, g.voxel) - k0;
-        if (cz + g.reach + 1 < 0 || cz - g.reach > n) continue;  // reaches no slice of the block
+        if (!cz_listed(cz)) continue;  // reaches no slice of the block
         const std::int32_t cx = SliceGrid::cell(x, g.ox, g.voxel) - i0, by = box_j(y);
         // Columns within R_c lie in [cell(x - R_c), cell(x + R_c) + 1] (a superset: the exact test
         // decides), narrower than the reach box.
@@ -64,46 +74,73 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
                            rhi = SliceGrid::cell(x + g.rc, g.ox, g.voxel) - i0 + 1;
         const std::int32_t ilo = std::max({0, cx - g.reach, rlo}), ihi = std::min({n, cx + g.reach + 1, rhi});
         const std::int32_t jlo = std::max(0, by), jhi = std::min(n, by + 2 * g.reach + 1);
+        if (ilo > ihi) continue;
+        // dx * dx of the candidate columns, four at a time: a row's test is then one add and one compare
+        // per four columns, with the same float expression as the corner distance minus its z term
+        // ((a - x)^2 is (x - a)^2 exactly).
+        const auto width = static_cast<std::uint32_t>(ihi - ilo + 1);
+        const std::uint32_t quads = (width + 3) / 4;
+        for (std::uint32_t t = 0; t < quads; ++t) {
+            const simd::F4 dx = simd::load(axis_x.data() + ilo + 4 * t) - simd::splat(x);
+            dx2[t] = dx * dx;
+        }
         for (std::int32_t j = jlo; j <= jhi; ++j) {
             const float dy = y - axis_y[std::size_t(j)];
-            if (!(dy * dy < f.rc2)) continue;  // then no dx passes either
-            // Same float expression as the corner distance minus its z term.
-            auto within = [&](std::int32_t i) {
-                const float dx = x - axis_x[std::size_t(i)];
-                return dx * dx + dy * dy < f.rc2;
-            };
-            std::int32_t a = ilo, b = ihi;
-            while (a <= b && !within(a)) ++a;
-            while (b >= a && !within(b)) --b;
-            if (a > b) continue;
+            const float dy2 = dy * dy;
+            if (!(dy2 < f.rc2)) continue;  // then no dx passes either
+            // The columns within R_c form one run (dx * dx grows with |dx|): its first and last set bit.
+            const simd::F4 dy2v = simd::splat(dy2);
+            std::int32_t a = -1, b = -1;
+            for (std::uint32_t w = 0; w < quads; w += kWindow / 4) {
+                std::uint64_t mask = 0;
+                for (std::uint32_t t = w; t < std::min(quads, w + kWindow / 4); ++t)
+                    mask |= std::uint64_t(simd::less_mask(dx2[t] + dy2v, rc2v)) << (4 * (t - w));
+                const std::uint32_t left = width - 4 * w;  // columns from this window on
+                if (left < 64) mask &= (std::uint64_t(1) << left) - 1;
+                if (mask == 0) continue;
+                const std::int32_t at = ilo + std::int32_t(4 * w);
+                if (a < 0) a = at + __builtin_ctzll(mask);
+                b = at + 63 - __builtin_clzll(mask);
+            }
+            if (a < 0) continue;
             rows[j - by] = static_cast<std::uint16_t>(a | b << 8);
-            std::uint32_t* count = offsets.data() + 1 + std::uint32_t(j) * (g.n + 1);
+            std::uint32_t* count = ends + std::uint32_t(j) * (g.n + 1);
             for (std::int32_t i = a; i <= b; ++i) ++count[i];
         }
     }
-    for (std::uint32_t c = 0; c < cols; ++c) offsets[c + 1] += offsets[c];
-    const std::uint32_t total = offsets[cols];
+    std::uint32_t total = 0;
+    for (std::uint32_t c = 0; c < cols; ++c) {
+        const std::uint32_t k = ends[c];
+        ends[c] = total;
+        total += k;
+    }
     if (total > entries.size()) return total;
-    // Write cursors walk offsets[col] upwards, then shift back by one column.
+    // Pass 2 appends the particles (sorted by mid_z, so group by group) to their columns; where a group
+    // begins, the cursors are where its entries start in every column.
+    std::uint32_t groups_started = 0;
+    auto start_groups_up_to = [&](std::uint32_t group) {
+        for (; groups_started <= group; ++groups_started)
+            std::copy(ends, ends + cols, offsets.data() + std::size_t(groups_started) * cols);
+    };
     for (std::uint32_t o = 0; o < np; ++o) {
         const std::uint32_t q = s.order[o];
         const float x = p.x[q], y = p.y[q], z = p.z[q];
         const std::uint16_t* rows = s.rows.data() + std::size_t(o) * row_slots;
         const std::int32_t mid = SliceGrid::cell(z, g.oz, g.voxel) - k0, by = box_j(y);
+        if (cz_listed(mid)) start_groups_up_to(lookup_group(mid, g.reach));
         for (std::uint32_t r = 0; r < row_slots; ++r) {
             const std::int32_t a = rows[r] & 0xff, b = rows[r] >> 8;
             if (a > b) continue;
             const std::int32_t j = by + std::int32_t(r);
             const float dy = y - axis_y[std::size_t(j)];
-            std::uint32_t* cursor = offsets.data() + std::uint32_t(j) * (g.n + 1);
+            std::uint32_t* cursor = ends + std::uint32_t(j) * (g.n + 1);
             for (std::int32_t i = a; i <= b; ++i) {
                 const float dx = x - axis_x[std::size_t(i)];
                 entries[cursor[i]++] = {dx * dx + dy * dy, z, mid};
             }
         }
     }
-    for (std::uint32_t c = cols; c > 0; --c) offsets[c] = offsets[c - 1];
-    offsets[0] = 0;
+    if (groups > 0) start_groups_up_to(groups - 1);  // groups after the last particle's start at the ends
     return total;
 }
 

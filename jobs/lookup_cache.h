@@ -28,25 +28,35 @@ struct ColumnEntry {
     std::int32_t mid_z;  // slab of the centre
 };
 
+// A column's entries are cut into groups of kLookupGroupSlabs consecutive mid_z values; the cache keeps
+// where each group starts, so a lookup finds the first entry that reaches slice k with one load and a
+// short scan instead of a binary search (whose chain of dependent loads into an array the size of L2
+// cost more than the kernel itself).
+inline constexpr std::int32_t kLookupGroupShift = 2;  // groups of 4 slabs
+// Group of mid_z (entries of the block have mid_z >= -reach - 1, so the group is never negative).
+inline std::uint32_t lookup_group(std::int32_t mid_z, std::int32_t reach) {
+    return static_cast<std::uint32_t>(mid_z + reach + 2) >> kLookupGroupShift;
+}
+
 struct LookupCacheView {
-    std::span<const std::uint32_t> offsets;  // (n+1)^2 + 1
+    // Group g of column c starts at entry offsets[g * columns + c]; row `groups` holds the column ends.
+    std::span<const std::uint32_t> offsets;
     std::span<const ColumnEntry> entries;
     std::int32_t reach = 1;  // an entry reaches slices [mid_z - reach, mid_z + reach + 1]
+    std::uint32_t groups = 1, columns = 1;
 
     const ColumnEntry* begin(std::uint32_t col) const { return entries.data() + offsets[col]; }
-    const ColumnEntry* end(std::uint32_t col) const { return entries.data() + offsets[col + 1]; }
-    // The first entry of [e, end) that reaches slice k (max_z >= k): entries are sorted by mid_z.
-    const ColumnEntry* first_reaching(const ColumnEntry* e, const ColumnEntry* end, std::int32_t k) const {
+    const ColumnEntry* end(std::uint32_t col) const {
+        return entries.data() + offsets[groups * columns + col];
+    }
+    // The first entry of column col that reaches slice k >= 0 (max_z >= k): entries are sorted by mid_z.
+    const ColumnEntry* first_reaching(std::uint32_t col, std::int32_t k) const {
         const std::int32_t lowest_mid = k - reach - 1;
-        std::size_t lo = 0, hi = static_cast<std::size_t>(end - e);
-        while (lo < hi) {
-            const std::size_t m = (lo + hi) / 2;
-            if (e[m].mid_z < lowest_mid)
-                lo = m + 1;
-            else
-                hi = m;
-        }
-        return e + lo;
+        const std::uint32_t g = std::min(lookup_group(lowest_mid, reach), groups);
+        const ColumnEntry* e = entries.data() + offsets[g * columns + col];
+        const ColumnEntry* const last = end(col);
+        while (e != last && e->mid_z < lowest_mid) ++e;
+        return e;
     }
 };
 
@@ -57,8 +67,8 @@ struct LookupScratch {
 };
 
 // Builds the cache of block (bi, bj, bk) from its particles (ascending index). `offsets` needs
-// (n+1)^2 + 1 slots. Returns the number of entries needed; entries are written only when that fits in
-// `entries` (call again with more room otherwise).
+// lookup_offset_slots(grid) slots. Returns the number of entries needed; entries are written only when that
+// fits in `entries` (call again with more room otherwise).
 std::uint32_t build_lookup_cache(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                                  ConstPositions particles, const LookupScratch& scratch,
                                  std::span<std::uint32_t> offsets, std::span<ColumnEntry> entries);
@@ -66,6 +76,14 @@ std::uint32_t build_lookup_cache(const SliceGrid& grid, std::uint32_t bi, std::u
 // Scratch sizes for build_lookup_cache.
 inline std::size_t lookup_sort_slots(const SliceGrid& g) {
     return g.n + 2u * std::uint32_t(g.reach) + 8u;
+}
+// Groups per column: every slot of the counting sort by mid_z falls in one.
+inline std::uint32_t lookup_groups(const SliceGrid& g) {
+    return static_cast<std::uint32_t>((lookup_sort_slots(g) + (1u << kLookupGroupShift) - 1) >>
+                                      kLookupGroupShift);
+}
+inline std::size_t lookup_offset_slots(const SliceGrid& g) {
+    return std::size_t(g.n + 1) * (g.n + 1) * (lookup_groups(g) + 1);
 }
 inline std::size_t lookup_row_slots(const SliceGrid& g) {
     return 2u * std::uint32_t(g.reach) + 2u;
@@ -77,8 +95,7 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
     const std::uint32_t col = j * (n + 1) + i;
     const ColumnEntry* end = c.end(col);
     float sum = 0.0f;
-    for (const ColumnEntry* e = c.first_reaching(c.begin(col), end, k); e != end && e->mid_z - c.reach <= k;
-         ++e) {
+    for (const ColumnEntry* e = c.first_reaching(col, k); e != end && e->mid_z - c.reach <= k; ++e) {
         const float dz = e->z - pz;
         sum += f(e->dxy + dz * dz);
     }
@@ -115,7 +132,7 @@ inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_
     using iv = typename ColumnLanes<Lanes>::i;
     const std::uint32_t col = j * (n + 1) + i;
     const ColumnEntry* const end = c.end(col);
-    const ColumnEntry* first = c.first_reaching(c.begin(col), end, k_lo);
+    const ColumnEntry* first = c.first_reaching(col, k_lo);
     const fv rc2 = fv{} + f.rc2, inv = fv{} + f.inv_2rc2, half = fv{} + 0.5f;
     for (std::int32_t a = k_lo; a <= k_hi; a += Lanes) {
         const std::int32_t b = std::min(a + Lanes - 1, k_hi), lanes = b - a + 1;

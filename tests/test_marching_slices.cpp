@@ -219,13 +219,13 @@ struct BlockCaches {
         g = ex.grid();
         iso = ex.iso();
         order.resize(c.size()), counts.resize(lookup_sort_slots(g));
-        offsets.resize(std::size_t(g.n + 1) * (g.n + 1) + 1), rows.resize(c.size() * lookup_row_slots(g));
+        offsets.resize(lookup_offset_slots(g)), rows.resize(c.size() * lookup_row_slots(g));
     }
     LookupCacheView build(std::uint32_t bi, std::uint32_t bj, std::uint32_t bk) {
         const LookupScratch ls{order, counts, rows};
         entries.resize(build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, {}));
         build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, entries);
-        return {offsets, entries, g.reach};
+        return {offsets, entries, g.reach, lookup_groups(g), (g.n + 1) * (g.n + 1)};
     }
 };
 

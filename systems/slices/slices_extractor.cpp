@@ -33,7 +33,7 @@ struct SlicesExtractor::Scratch {
     explicit Scratch(const SliceGrid& g) {
         const SliceScratchSizes z(g.n);
         sort_counts.reserve(lookup_sort_slots(g));
-        column_offsets.reserve(z.columns + 1);
+        column_offsets.reserve(lookup_offset_slots(g));
         slices.reserve(z.slices), face_bits.reserve(z.face_bits);
         slice_rows.reserve(z.slice_rows), slab_rows.reserve(z.slab_rows), edge_rows.reserve(z.edge_rows);
         work_rows.reserve(z.work_rows), slab_range.reserve(z.slab_range);
@@ -241,17 +241,19 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     // Lookup cache (grown and rebuilt if this block lists more column entries than ever before).
     ensure(s.order, np);
     ensure(s.rows, std::size_t(np) * lookup_row_slots(grid_));
-    const std::size_t cols = std::size_t(grid_.n + 1) * (grid_.n + 1);
+    const std::size_t offset_slots = lookup_offset_slots(grid_);
     const LookupScratch ls{s.order.span(np), s.sort_counts.span(lookup_sort_slots(grid_)),
                            s.rows.span(std::size_t(np) * lookup_row_slots(grid_))};
-    std::uint32_t need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(cols + 1),
-                                            s.entries.span(s.entries.capacity()));
+    std::uint32_t need =
+        build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(offset_slots),
+                           s.entries.span(s.entries.capacity()));
     if (need > s.entries.capacity()) {
         ensure(s.entries, need);
-        need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(cols + 1),
+        need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(offset_slots),
                                   s.entries.span(s.entries.capacity()));
     }
-    const LookupCacheView cache{s.column_offsets.span(cols + 1), s.entries.span(need), grid_.reach};
+    const LookupCacheView cache{s.column_offsets.span(offset_slots), s.entries.span(need), grid_.reach,
+                                lookup_groups(grid_), (grid_.n + 1) * (grid_.n + 1)};
     slots_[item].particles = np, slots_[item].cache_entries = need;
 
     // Neighbours that list no particle: their shared face carries no surface (march_block). Faces shared
