@@ -169,7 +169,6 @@ RIVULET_INLINE void accumulate_lanes(const float* p, const std::uint32_t* v, flo
 template <int L>
 RIVULET_INLINE void accumulate_body(std::span<const float> p, std::span<const std::uint32_t> tri,
                                     std::span<float> acc) {
-    std::fill(acc.begin(), acc.end(), 0.0f);
     const std::size_t count = tri.size() / 3;
     std::size_t t = 0;
     for (; t + L <= count; t += L) accumulate_lanes<L>(p.data(), tri.data() + t * 3, acc.data());
@@ -207,6 +206,20 @@ void normalize_or_up(float* n) {
         n[0] /= len, n[1] /= len, n[2] /= len;
     } else {
         n[0] = 0.0f, n[1] = 1.0f, n[2] = 0.0f;
+    }
+}
+
+}  // namespace rivulet
+
+namespace rivulet {
+
+void write_vertices(std::span<const float> p, std::span<const float> acc, std::span<float> out) {
+    const std::size_t count = out.size() / 6;
+    for (std::size_t v = 0; v < count; ++v) {
+        float* const o = out.data() + v * 6;
+        o[0] = p[v * 4], o[1] = p[v * 4 + 1], o[2] = p[v * 4 + 2];
+        o[3] = acc[v * 4], o[4] = acc[v * 4 + 1], o[5] = acc[v * 4 + 2];
+        normalize_or_up(o + 3);
     }
 }
 

@@ -307,7 +307,7 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     std::fill(made, made + 3 * std::size_t(n1) * n1 * W, std::uint64_t(0));
     std::uint32_t* const edges = s.edges.data();
     const std::uint32_t max_vertices = static_cast<std::uint32_t>(
-        std::min({out.positions.size() / 4, out.rank.size(), out.border.size(), out.foreign.size()}));
+        std::min({out.positions.size() / 4, out.border.size(), out.foreign.size()}));
     const std::uint32_t max_triangles = static_cast<std::uint32_t>(out.triangles.size() / 3);
     float* const positions = out.positions.data();
     // A corner index on the block's max plane belongs to the next block, except in the last block of the
@@ -320,7 +320,9 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
             st.overflow = true;
             return;
         }
-        const std::uint32_t id = st.vertices++;
+        ++st.vertices;
+        const bool owned = (i < n || last[0]) && (r < n || last[1]) && (t < n || last[2]);
+        const std::uint32_t id = owned ? st.owned++ : max_vertices - 1 - st.foreign;
         edges[((std::size_t(t) * n1 + r) * n1 + i) * 3 + axis] = id;
         float p[3] = {plane_x[i], plane_y[r], column_z[t]};
         p[axis] = edge_crossing(p[axis], g.voxel, lo, hi, iso);
@@ -329,16 +331,13 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         const std::uint64_t key =
             edge_key(static_cast<std::uint32_t>(i0) + i, static_cast<std::uint32_t>(j0) + r,
                      static_cast<std::uint32_t>(k0) + t, axis);
-        const bool owned = (i < n || last[0]) && (r < n || last[1]) && (t < n || last[2]);
         if (!owned) {
-            out.rank[id] = kForeignVertex;
             out.foreign[st.foreign++] = {key, id};
             return;
         }
         auto on_plane = [n](std::uint32_t c) { return c == 0 || c == n; };
         if ((axis != 0 && on_plane(i)) || (axis != 1 && on_plane(r)) || (axis != 2 && on_plane(t)))
-            out.border[st.border++] = {key, st.owned};
-        out.rank[id] = st.owned++;
+            out.border[st.border++] = {key, id};
     };
     // Edges of corner row r in slice t along `axis` that have no vertex yet among `want`; marks them.
     auto claim_edges = [&](std::uint32_t t, std::uint32_t axis, std::uint32_t r, Row want) {

@@ -59,24 +59,24 @@ struct SliceScratch {
 };
 
 // Ownership of the vertices on block borders: a vertex belongs to the block holding the low corner of its
-// edge (each block owns the vertices on its min faces and inside it). A block lists the owned vertices
-// that lie on one of its min faces (other blocks refer to them by key) and the vertices it made that
-// another block owns.
+// edge (each block owns the vertices on its min faces and inside it). A block numbers the vertices it
+// owns 0, 1, ... in the order it creates them (that number is the vertex's rank in the block's share of
+// the mesh) and the ones another block owns down from the top of its buffers (capacity - 1, ...); it lists
+// the owned vertices on one of its min faces (other blocks refer to them by key) and the foreign ones.
 struct KeyedVertex {
     std::uint64_t key;    // edge_key of the vertex's edge
-    std::uint32_t index;  // border: rank among the block's owned vertices; foreign: block-local vertex
+    std::uint32_t index;  // block-local vertex
 };
-inline constexpr std::uint32_t kForeignVertex = 0xffffffffu;
 
 struct BlockMeshOut {
-    std::span<float> positions;          // 4 per vertex: x, y, z, 0 (angle_normals.h)
+    std::span<float> positions;          // 4 per vertex: x, y, z, 0 (angle_normals.h); capacity = size / 4
     std::span<std::uint32_t> triangles;  // 3 per triangle, block-local vertex indices
-    std::span<std::uint32_t> rank;       // per vertex: rank among the owned vertices, or kForeignVertex
     std::span<KeyedVertex> border;       // owned vertices on a min face, in creation order
     std::span<KeyedVertex> foreign;      // vertices another block owns, in creation order
 };
 
 struct BlockSweepStats {
+    // vertices = owned + foreign; owned vertices are 0 .. owned - 1, foreign ones capacity - foreign ..
     std::uint32_t vertices = 0, triangles = 0, owned = 0, border = 0, foreign = 0;
     std::uint32_t seeds = 0, cubes = 0, slice_fills = 0, peak_slices = 0;
     bool overflow = false;  // the output spans were too small: nothing usable, grow and run again

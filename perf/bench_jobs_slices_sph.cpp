@@ -84,8 +84,8 @@ BENCHMARK(BM_SlicesWeld)->Unit(benchmark::kMicrosecond);
 void BM_SlicesNormalsAndStage(benchmark::State& state) {
     auto& f = SlicesFixture::get();
     for (auto _ : state) {
-        for (std::uint32_t b = 0; b < f.slices->blocks(); ++b) f.slices->normals_block(b, f.mesh);
-        f.slices->borders(f.mesh);
+        for (std::uint32_t b = 0; b < f.slices->blocks(); ++b) f.slices->normals_block(b);
+        f.slices->borders();
         for (std::uint32_t b = 0; b < f.slices->blocks(); ++b) f.slices->stage(b, f.mesh);
         benchmark::ClobberMemory();
     }

@@ -34,7 +34,7 @@ Soup random_soup(unsigned seed, std::uint32_t vertices, std::size_t triangles) {
 }
 
 std::vector<float> accumulate(const Soup& s, bool baseline = false) {
-    std::vector<float> acc(s.p4.size(), -7.0f);  // overwritten
+    std::vector<float> acc(s.p4.size(), 0.0f);
     if (baseline)
         accumulate_angle_normals_baseline(s.p4, s.tri, acc);
     else

@@ -442,7 +442,6 @@ struct SweepBuffers {
     std::vector<std::uint32_t> edges;
     std::vector<float> positions = std::vector<float>(4 * 20000);
     std::vector<std::uint32_t> triangles = std::vector<std::uint32_t>(3 * 40000);
-    std::vector<std::uint32_t> rank = std::vector<std::uint32_t>(20000);
     std::vector<KeyedVertex> border = std::vector<KeyedVertex>(20000),
                              foreign = std::vector<KeyedVertex>(20000);
 
@@ -487,14 +486,17 @@ Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, con
     const std::uint32_t bi = block % g.bx, bj = (block / g.bx) % g.by, bk = block / (g.bx * g.by);
     const LookupCacheView cache = caches.build(bi, bj, bk);
     const SliceScratch scratch = b.view();
-    const BlockMeshOut out{b.positions, b.triangles, b.rank, b.border, b.foreign};
+    const BlockMeshOut out{b.positions, b.triangles, b.border, b.foreign};
     const BlockSweepStats st =
         build == Build::kBaseline
             ? march_block_baseline(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch, out, false, 0,
                                    shared)
             : march_block(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch, out, false, 0, shared);
     EXPECT_FALSE(st.overflow);
-    return {std::vector<float>(b.positions.begin(), b.positions.begin() + 4 * std::ptrdiff_t(st.vertices)),
+    // Owned vertices from the bottom of the buffer, foreign ones from its top.
+    std::vector<float> positions(b.positions.begin(), b.positions.begin() + 4 * std::ptrdiff_t(st.owned));
+    positions.insert(positions.end(), b.positions.end() - 4 * std::ptrdiff_t(st.foreign), b.positions.end());
+    return {positions,
             std::vector<std::uint32_t>(b.triangles.begin(),
                                        b.triangles.begin() + 3 * std::ptrdiff_t(st.triangles)),
             st.seeds};

@@ -286,26 +286,26 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     const SliceScratch scratch = s.view(grid_);
     auto grow = [&slot](std::size_t vertices, std::size_t triangles) {
         slot.positions.reserve(4 * vertices), slot.triangles.reserve(3 * triangles);
-        slot.rank.reserve(vertices), slot.border.reserve(vertices), slot.foreign.reserve(vertices);
+        slot.border.reserve(vertices), slot.foreign.reserve(vertices);
     };
     if (slot.positions.capacity() == 0) grow(1024, 2048);
     for (;;) {
-        const std::size_t room = slot.rank.capacity();
+        const std::size_t room = slot.border.capacity();
         slot.sweep =
             march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
                         {slot.positions.span(4 * room), slot.triangles.span(slot.triangles.capacity()),
-                         slot.rank.span(room), slot.border.span(room), slot.foreign.span(room)},
+                         slot.border.span(room), slot.foreign.span(room)},
                         settings_.exhaustive_seeds, empty_neighbours, shared);
         if (!slot.sweep.overflow) break;
         grow(2 * room, 2 * slot.triangles.capacity() / 3);
     }
-    slot.vertices = slot.sweep.vertices;
+    slot.capacity = static_cast<std::uint32_t>(slot.border.capacity());
     slot.triangles_n = slot.sweep.triangles;
     slot.owned = slot.sweep.owned;
     slot.border_n = slot.sweep.border;
     slot.foreign_n = slot.sweep.foreign;
-    ensure(slot.final_index, slot.vertices);
-    ensure(slot.acc, std::size_t(slot.vertices) * 4);
+    ensure(slot.foreign_owner, slot.foreign_n);
+    ensure(slot.acc, std::size_t(slot.capacity) * 4);
     // The neighbours look this block's border vertices up by key.
     std::sort(slot.border.data(), slot.border.data() + slot.border_n,
               [](const KeyedVertex& x, const KeyedVertex& y) { return x.key < y.key; });
@@ -339,14 +339,6 @@ void SlicesExtractor::weld_offsets(SurfaceMesh& out) {
 
 void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
     BlockSlot& s = slots_[item];
-    float* verts = out.vertices6.data();
-    for (std::uint32_t v = 0; v < s.vertices; ++v) {
-        if (s.rank[v] == kForeignVertex) continue;
-        const std::uint64_t f = s.vertex_offset + s.rank[v];
-        s.final_index[v] = static_cast<std::uint32_t>(f);
-        for (int c = 0; c < 3; ++c)
-            verts[f * 6 + std::size_t(c)] = s.positions[std::size_t(v) * 4 + std::size_t(c)];
-    }
     for (std::uint32_t q = 0; q < s.foreign_n; ++q) {
         const KeyedVertex& fv = s.foreign[q];
         const std::int32_t owner = block_to_active_[owner_of(fv.key)];
@@ -361,42 +353,50 @@ void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
             throw std::logic_error(fmt::format(
                 "marching slices: block {} refers to a border vertex its owner block did not produce",
                 active_[item]));
-        s.final_index[fv.index] = static_cast<std::uint32_t>(o->vertex_offset + it->index);
+        s.foreign_owner[q] = {static_cast<std::uint32_t>(owner), it->index};
     }
+    // Owned vertex v is mesh vertex offset + v; foreign vertex capacity - 1 - q is the q-th foreign one.
+    const auto offset = static_cast<std::uint32_t>(s.vertex_offset);
+    const std::uint32_t top = s.capacity - 1;
     std::uint32_t* idx = out.indices.data() + s.triangle_offset * 3;
-    for (std::size_t t = 0; t < std::size_t(s.triangles_n) * 3; ++t) idx[t] = s.final_index[s.triangles[t]];
-}
-
-void SlicesExtractor::normals_block(std::uint32_t item, SurfaceMesh& out) {
-    BlockSlot& s = slots_[item];
-    accumulate_angle_normals(s.positions.span(std::size_t(s.vertices) * 4),
-                             s.triangles.span(std::size_t(s.triangles_n) * 3),
-                             s.acc.span(std::size_t(s.vertices) * 4));
-    float* verts = out.vertices6.data();
-    for (std::uint32_t v = 0; v < s.vertices; ++v) {
-        if (s.rank[v] == kForeignVertex) continue;
-        const std::size_t f = s.final_index[v];
-        for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] = s.acc[std::size_t(v) * 4 + c];
+    for (std::size_t t = 0; t < std::size_t(s.triangles_n) * 3; ++t) {
+        const std::uint32_t v = s.triangles[t];
+        if (v < s.owned) {
+            idx[t] = offset + v;
+        } else {
+            const OwnerVertex& o = s.foreign_owner[top - v];
+            idx[t] = static_cast<std::uint32_t>(slots_[o.item].vertex_offset) + o.vertex;
+        }
     }
 }
 
-void SlicesExtractor::borders(SurfaceMesh& out) {
-    float* verts = out.vertices6.data();
+void SlicesExtractor::normals_block(std::uint32_t item) {
+    BlockSlot& s = slots_[item];
+    const std::size_t foreign_from = std::size_t(s.capacity - s.foreign_n) * 4;
+    // Vertex 0 too: padding triangles of the normals kernel name it (and add +0).
+    std::fill(s.acc.data(), s.acc.data() + std::size_t(std::max(s.owned, 1u)) * 4, 0.0f);
+    std::fill(s.acc.data() + foreign_from, s.acc.data() + std::size_t(s.capacity) * 4, 0.0f);
+    accumulate_angle_normals(s.positions.span(std::size_t(s.capacity) * 4),
+                             s.triangles.span(std::size_t(s.triangles_n) * 3),
+                             s.acc.span(std::size_t(s.capacity) * 4));
+}
+
+void SlicesExtractor::borders() {
     for (std::uint32_t a = 0; a < active_count_; ++a) {  // border contributions, in block order
         const BlockSlot& s = slots_[a];
         for (std::uint32_t q = 0; q < s.foreign_n; ++q) {
-            const std::uint32_t v = s.foreign[q].index;
-            const std::size_t f = s.final_index[v];
-            for (std::size_t c = 0; c < 3; ++c) verts[f * 6 + 3 + c] += s.acc[std::size_t(v) * 4 + c];
+            const float* from = s.acc.data() + std::size_t(s.foreign[q].index) * 4;
+            float* to =
+                slots_[s.foreign_owner[q].item].acc.data() + std::size_t(s.foreign_owner[q].vertex) * 4;
+            for (std::size_t c = 0; c < 3; ++c) to[c] += from[c];
         }
     }
 }
 
 void SlicesExtractor::stage(std::uint32_t item, SurfaceMesh& out) {
     const BlockSlot& s = slots_[item];
-    float* verts = out.vertices6.data();
-    for (std::uint64_t v = s.vertex_offset; v < s.vertex_offset + s.owned; ++v)
-        normalize_or_up(verts + v * 6 + 3);
+    write_vertices(s.positions.span(std::size_t(s.owned) * 4), s.acc.span(std::size_t(s.owned) * 4),
+                   {out.vertices6.data() + s.vertex_offset * 6, std::size_t(s.owned) * 6});
 }
 
 void SlicesExtractor::extract_serial(ConstPositions p, SurfaceMesh& out) {
@@ -407,8 +407,8 @@ void SlicesExtractor::extract_serial(ConstPositions p, SurfaceMesh& out) {
     for (std::uint32_t a = 0; a < blocks(); ++a) extract_block(a);
     weld_offsets(out);
     for (std::uint32_t a = 0; a < blocks(); ++a) weld_block(a, out);
-    for (std::uint32_t a = 0; a < blocks(); ++a) normals_block(a, out);
-    borders(out);
+    for (std::uint32_t a = 0; a < blocks(); ++a) normals_block(a);
+    borders();
     for (std::uint32_t a = 0; a < blocks(); ++a) stage(a, out);
 }
 

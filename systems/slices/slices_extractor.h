@@ -7,12 +7,12 @@
 //   extract_block(block)*            lookup cache + seeds + sweep per non-empty block
 //                                    (jobs/lookup_cache.h, jobs/marching_slices.h)
 //   weld_offsets                     vertex / triangle offsets per block, limits (serial)
-//   weld_block(block)*               owned vertices out, indices remapped to global (border vertices to
-//                                    their owner block's copy)
-//   normals_block(block)*            angle-weighted normals per block (jobs/angle_normals.h)
+//   weld_block(block)*               indices remapped to global (border vertices to their owner block's
+//                                    copy)
+//   normals_block(block)*            angle-weighted normal sums per block (jobs/angle_normals.h)
 //   borders                          border vertices' normal sums added to their owners', in block order
 //                                    (serial)
-//   stage(block)*                    the block's owned normals normalised
+//   stage(block)*                    the block's owned vertices out: position and normalised normal
 //   (* = independent items, run in parallel)
 //
 // Ownership rule: the vertex on global edge (corner g, axis a) belongs to the block holding cube g, i.e.
@@ -78,8 +78,8 @@ class SlicesExtractor {
     void extract_block(std::uint32_t item);
     void weld_offsets(SurfaceMesh& out);
     void weld_block(std::uint32_t item, SurfaceMesh& out);
-    void normals_block(std::uint32_t item, SurfaceMesh& out);
-    void borders(SurfaceMesh& out);
+    void normals_block(std::uint32_t item);
+    void borders();
     void stage(std::uint32_t item, SurfaceMesh& out);
 
     void extract_serial(ConstPositions p, SurfaceMesh& out);
@@ -87,15 +87,19 @@ class SlicesExtractor {
     const SlicesStats& stats() const { return stats_; }
 
   private:
+    struct OwnerVertex {
+        std::uint32_t item;    // the owner's active-block index
+        std::uint32_t vertex;  // its block-local (owned) vertex
+    };
     struct BlockSlot {
         AlignedArray<float> positions;  // 4 per vertex (x, y, z, 0)
         AlignedArray<std::uint32_t> triangles;
-        AlignedArray<std::uint32_t> rank;  // owned rank, or kForeignVertex
-        AlignedArray<std::uint32_t> final_index;
-        AlignedArray<KeyedVertex> border;   // owned vertices other blocks may refer to, sorted by key
-        AlignedArray<KeyedVertex> foreign;  // vertices other blocks own, ascending (borders)
-        AlignedArray<float> acc;            // normal accumulators, 4 per vertex
-        std::uint32_t vertices = 0, triangles_n = 0, owned = 0, border_n = 0, foreign_n = 0;
+        AlignedArray<KeyedVertex> border;         // owned vertices other blocks may refer to, sorted by key
+        AlignedArray<KeyedVertex> foreign;        // vertices other blocks own, in creation order (borders)
+        AlignedArray<OwnerVertex> foreign_owner;  // where each foreign vertex lives
+        AlignedArray<float> acc;                  // normal accumulators, 4 per vertex
+        // Block-local vertices: owned 0 .. owned - 1, foreign capacity - foreign_n .. capacity - 1.
+        std::uint32_t capacity = 0, triangles_n = 0, owned = 0, border_n = 0, foreign_n = 0;
         std::uint32_t particles = 0, cache_entries = 0;  // what the block's sweep scratch had to hold
         std::uint64_t vertex_offset = 0, triangle_offset = 0;
         BlockSweepStats sweep;
