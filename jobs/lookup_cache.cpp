@@ -24,6 +24,7 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     const std::uint32_t np = static_cast<std::uint32_t>(p.size());
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t row_slots = static_cast<std::uint32_t>(lookup_row_slots(g));
+    const std::uint32_t row_runs = row_slots - 1;  // then the reach box's first row
     const std::uint32_t groups = lookup_groups(g);
     std::uint32_t* const ends = offsets.data() + std::size_t(groups) * cols;  // counts, cursors, then ends
 
@@ -34,45 +35,47 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     for (std::int32_t i = 0; i <= n; ++i)
         axis_x[std::size_t(i)] = g.cx(i0 + i), axis_y[std::size_t(i)] = g.cy(j0 + i);
 
-    // Counting sort of the particles by mid_z (stable: ascending index within a slab).
+    // Counting sort of the particles by mid_z (stable: ascending index within a slab); mid_z computed once
+    // per particle (SliceGrid::cell divides).
     const std::int32_t mid_base = -g.reach - 2;
     const std::uint32_t slots = static_cast<std::uint32_t>(s.counts.size());
-    auto mid_slot = [&](std::uint32_t q) {
-        const std::int32_t mid = SliceGrid::cell(p.z[q], g.oz, g.voxel) - k0;
-        return static_cast<std::uint32_t>(
-            std::clamp<std::int32_t>(mid - mid_base, 0, std::int32_t(slots) - 1));
-    };
     std::fill(s.counts.begin(), s.counts.end(), 0u);
-    for (std::uint32_t q = 0; q < np; ++q) ++s.counts[mid_slot(q)];
+    for (std::uint32_t q = 0; q < np; ++q) {
+        const std::int32_t mid = SliceGrid::cell(p.z[q], g.oz, g.voxel) - k0;
+        s.mids[q] = mid;
+        ++s.counts[static_cast<std::uint32_t>(
+            std::clamp<std::int32_t>(mid - mid_base, 0, std::int32_t(slots) - 1))];
+    }
     std::uint32_t run = 0;
     for (auto& c : s.counts) {
         const std::uint32_t k = c;
         c = run;
         run += k;
     }
-    for (std::uint32_t q = 0; q < np; ++q) s.order[s.counts[mid_slot(q)]++] = q;
+    for (std::uint32_t q = 0; q < np; ++q)
+        s.order[s.counts[static_cast<std::uint32_t>(
+            std::clamp<std::int32_t>(s.mids[q] - mid_base, 0, std::int32_t(slots) - 1))]++] = q;
 
     // Pass 1: per particle (in sorted order) and row of its reach box, the run of columns within R_c
-    // (row_slots rows from the box's first row; a row is one interval: dx * dx grows with |dx|); count
-    // the entries per column. Pass 2 places them without repeating the distance tests.
-    std::fill(ends, ends + cols, 0u);
-    auto box_j = [&](float y) { return SliceGrid::cell(y, g.oy, g.voxel) - j0 - g.reach; };
+    // (row_runs rows from the box's first row, which follows them in `rows`; a row is one interval:
+    // dx * dx grows with |dx|); count the entries per column, as +1 where a row's run starts and -1 after
+    // it ends (summed along the row below). Pass 2 places them without repeating the distance tests.
+    const std::uint32_t diff_stride = g.n + 2;   // a row's run may end after column n
+    std::uint32_t* const diff = offsets.data();  // rows of group starts are written only in pass 2
+    std::fill(diff, diff + std::size_t(g.n + 1) * diff_stride, 0u);
     auto cz_listed = [&](std::int32_t cz) { return cz + g.reach + 1 >= 0 && cz - g.reach <= n; };
     std::array<simd::F4, (kMaxBlockCubes + 1 + 3) / 4> dx2;
     const simd::F4 rc2v = simd::splat(f.rc2);
     for (std::uint32_t o = 0; o < np; ++o) {
         const std::uint32_t q = s.order[o];
-        const float x = p.x[q], y = p.y[q], z = p.z[q];
+        const float x = p.x[q], y = p.y[q];
         std::uint16_t* rows = s.rows.data() + std::size_t(o) * row_slots;
-        std::fill(rows, rows + row_slots, kEmptyRow);
-        const std::int32_t cz = SliceGrid::cell(z, g.oz, g.voxel) - k0;
-        if (!cz_listed(cz)) continue;  // reaches no slice of the block
-        const std::int32_t cx = SliceGrid::cell(x, g.ox, g.voxel) - i0, by = box_j(y);
-        // Columns within R_c lie in [cell(x - R_c), cell(x + R_c) + 1] (a superset: the exact test
-        // decides), narrower than the reach box.
-        const std::int32_t rlo = SliceGrid::cell(x - g.rc, g.ox, g.voxel) - i0,
-                           rhi = SliceGrid::cell(x + g.rc, g.ox, g.voxel) - i0 + 1;
-        const std::int32_t ilo = std::max({0, cx - g.reach, rlo}), ihi = std::min({n, cx + g.reach + 1, rhi});
+        std::fill(rows, rows + row_runs, kEmptyRow);
+        if (!cz_listed(s.mids[q])) continue;  // reaches no slice of the block
+        const std::int32_t cx = SliceGrid::cell(x, g.ox, g.voxel) - i0,
+                           by = SliceGrid::cell(y, g.oy, g.voxel) - j0 - g.reach;
+        rows[row_runs] = static_cast<std::uint16_t>(by);
+        const std::int32_t ilo = std::max(0, cx - g.reach), ihi = std::min(n, cx + g.reach + 1);
         const std::int32_t jlo = std::max(0, by), jhi = std::min(n, by + 2 * g.reach + 1);
         if (ilo > ihi) continue;
         // dx * dx of the candidate columns, four at a time: a row's test is then one add and one compare
@@ -104,9 +107,13 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
             }
             if (a < 0) continue;
             rows[j - by] = static_cast<std::uint16_t>(a | b << 8);
-            std::uint32_t* count = ends + std::uint32_t(j) * (g.n + 1);
-            for (std::int32_t i = a; i <= b; ++i) ++count[i];
+            std::uint32_t* const row_diff = diff + std::uint32_t(j) * diff_stride;
+            ++row_diff[a], --row_diff[b + 1];
         }
+    }
+    for (std::uint32_t j = 0; j <= g.n; ++j) {
+        std::uint32_t sum = 0;
+        for (std::uint32_t i = 0; i <= g.n; ++i) ends[j * (g.n + 1) + i] = sum += diff[j * diff_stride + i];
     }
     std::uint32_t total = 0;
     for (std::uint32_t c = 0; c < cols; ++c) {
@@ -126,9 +133,11 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
         const std::uint32_t q = s.order[o];
         const float x = p.x[q], y = p.y[q], z = p.z[q];
         const std::uint16_t* rows = s.rows.data() + std::size_t(o) * row_slots;
-        const std::int32_t mid = SliceGrid::cell(z, g.oz, g.voxel) - k0, by = box_j(y);
-        if (cz_listed(mid)) start_groups_up_to(lookup_group(mid, g.reach));
-        for (std::uint32_t r = 0; r < row_slots; ++r) {
+        const std::int32_t mid = s.mids[q];
+        if (!cz_listed(mid)) continue;
+        const std::int32_t by = static_cast<std::int16_t>(rows[row_runs]);
+        start_groups_up_to(lookup_group(mid, g.reach));
+        for (std::uint32_t r = 0; r < row_runs; ++r) {
             const std::int32_t a = rows[r] & 0xff, b = rows[r] >> 8;
             if (a > b) continue;
             const std::int32_t j = by + std::int32_t(r);

@@ -62,6 +62,7 @@ struct LookupCacheView {
 
 struct LookupScratch {
     std::span<std::uint32_t> order;   // one per block particle
+    std::span<std::int32_t> mids;     // one per block particle: its mid_z
     std::span<std::uint32_t> counts;  // lookup_sort_slots: counting sort by mid_z
     std::span<std::uint16_t> rows;    // lookup_row_slots per block particle: covered columns per row
 };
@@ -85,8 +86,9 @@ inline std::uint32_t lookup_groups(const SliceGrid& g) {
 inline std::size_t lookup_offset_slots(const SliceGrid& g) {
     return std::size_t(g.n + 1) * (g.n + 1) * (lookup_groups(g) + 1);
 }
+// Per block particle: the run of covered columns in each row of its reach box, then the box's first row.
 inline std::size_t lookup_row_slots(const SliceGrid& g) {
-    return 2u * std::uint32_t(g.reach) + 2u;
+    return 2u * std::uint32_t(g.reach) + 3u;
 }
 
 // F at local corner (i, j, k) whose world z is pz.

@@ -208,6 +208,7 @@ struct BlockCaches {
     Cloud c = blobs(3, 5, 40, 0.1f);
     SliceGrid g;
     std::vector<std::uint32_t> order, counts, offsets;
+    std::vector<std::int32_t> mids;
     std::vector<std::uint16_t> rows;
     std::vector<ColumnEntry> entries;
     float iso = 0;
@@ -218,11 +219,11 @@ struct BlockCaches {
         ex.extract_serial(c.pos(), m);
         g = ex.grid();
         iso = ex.iso();
-        order.resize(c.size()), counts.resize(lookup_sort_slots(g));
+        order.resize(c.size()), mids.resize(c.size()), counts.resize(lookup_sort_slots(g));
         offsets.resize(lookup_offset_slots(g)), rows.resize(c.size() * lookup_row_slots(g));
     }
     LookupCacheView build(std::uint32_t bi, std::uint32_t bj, std::uint32_t bk) {
-        const LookupScratch ls{order, counts, rows};
+        const LookupScratch ls{order, mids, counts, rows};
         entries.resize(build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, {}));
         build_lookup_cache(g, bi, bj, bk, c.pos(), ls, offsets, entries);
         return {offsets, entries, g.reach, lookup_groups(g), (g.n + 1) * (g.n + 1)};

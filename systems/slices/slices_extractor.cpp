@@ -23,6 +23,7 @@ void ensure(AlignedArray<T>& a, std::size_t n) {
 
 struct SlicesExtractor::Scratch {
     AlignedArray<std::uint32_t> order, sort_counts, column_offsets;
+    AlignedArray<std::int32_t> mids;
     AlignedArray<ColumnEntry> entries;
     AlignedArray<std::uint16_t> rows;
     AlignedArray<float> slices;
@@ -91,7 +92,7 @@ void SlicesExtractor::reserve_scratch(std::size_t workers) {
 void SlicesExtractor::grow_scratch(std::uint32_t particles, std::uint32_t cache_entries) {
     std::lock_guard<std::mutex> lock(scratch_mutex_);
     for (const auto& s : scratch_) {
-        ensure(s->order, particles);
+        ensure(s->order, particles), ensure(s->mids, particles);
         ensure(s->rows, std::size_t(particles) * lookup_row_slots(grid_));
         ensure(s->entries, cache_entries);
     }
@@ -239,10 +240,10 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     } release{this, s};
 
     // Lookup cache (grown and rebuilt if this block lists more column entries than ever before).
-    ensure(s.order, np);
+    ensure(s.order, np), ensure(s.mids, np);
     ensure(s.rows, std::size_t(np) * lookup_row_slots(grid_));
     const std::size_t offset_slots = lookup_offset_slots(grid_);
-    const LookupScratch ls{s.order.span(np), s.sort_counts.span(lookup_sort_slots(grid_)),
+    const LookupScratch ls{s.order.span(np), s.mids.span(np), s.sort_counts.span(lookup_sort_slots(grid_)),
                            s.rows.span(std::size_t(np) * lookup_row_slots(grid_))};
     std::uint32_t need =
         build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(offset_slots),
