@@ -119,7 +119,7 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     for (std::uint32_t c = 0; c < cols; ++c) {
         const std::uint32_t k = ends[c];
         ends[c] = total;
-        total += k;
+        total += k + 1;  // and the sentinel
     }
     if (total > entries.size()) return total;
     // Pass 2 appends the particles (sorted by mid_z, so group by group) to their columns; where a group
@@ -150,6 +150,7 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
         }
     }
     if (groups > 0) start_groups_up_to(groups - 1);  // groups after the last particle's start at the ends
+    for (std::uint32_t c = 0; c < cols; ++c) entries[ends[c]] = {0.0f, 0.0f, kSentinelMidZ};
     return total;
 }
 

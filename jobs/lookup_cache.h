@@ -27,6 +27,8 @@ struct ColumnEntry {
     float z;
     std::int32_t mid_z;  // slab of the centre
 };
+// Each column's list ends with a sentinel whose mid_z no slice reaches, so scans stop on mid_z alone.
+inline constexpr std::int32_t kSentinelMidZ = 0x7fffffff - 256;
 
 // A column's entries are cut into groups of kLookupGroupSlabs consecutive mid_z values; the cache keeps
 // where each group starts, so a lookup finds the first entry that reaches slice k with one load and a
@@ -39,7 +41,8 @@ inline std::uint32_t lookup_group(std::int32_t mid_z, std::int32_t reach) {
 }
 
 struct LookupCacheView {
-    // Group g of column c starts at entry offsets[g * columns + c]; row `groups` holds the column ends.
+    // Group g of column c starts at entry offsets[g * columns + c]; row `groups` holds the column ends,
+    // where each column's sentinel lies.
     std::span<const std::uint32_t> offsets;
     std::span<const ColumnEntry> entries;
     std::int32_t reach = 1;  // an entry reaches slices [mid_z - reach, mid_z + reach + 1]
@@ -49,13 +52,13 @@ struct LookupCacheView {
     const ColumnEntry* end(std::uint32_t col) const {
         return entries.data() + offsets[groups * columns + col];
     }
-    // The first entry of column col that reaches slice k >= 0 (max_z >= k): entries are sorted by mid_z.
+    // The first entry of column col that reaches slice k >= 0 (max_z >= k), or its sentinel: entries are
+    // sorted by mid_z.
     const ColumnEntry* first_reaching(std::uint32_t col, std::int32_t k) const {
         const std::int32_t lowest_mid = k - reach - 1;
         const std::uint32_t g = std::min(lookup_group(lowest_mid, reach), groups);
         const ColumnEntry* e = entries.data() + offsets[g * columns + col];
-        const ColumnEntry* const last = end(col);
-        while (e != last && e->mid_z < lowest_mid) ++e;
+        while (e->mid_z < lowest_mid) ++e;
         return e;
     }
 };
@@ -95,9 +98,8 @@ inline std::size_t lookup_row_slots(const SliceGrid& g) {
 inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
                          std::int32_t k, float pz, SliceKernel f) {
     const std::uint32_t col = j * (n + 1) + i;
-    const ColumnEntry* end = c.end(col);
     float sum = 0.0f;
-    for (const ColumnEntry* e = c.first_reaching(col, k); e != end && e->mid_z - c.reach <= k; ++e) {
+    for (const ColumnEntry* e = c.first_reaching(col, k); e->mid_z - c.reach <= k; ++e) {
         const float dz = e->z - pz;
         sum += f(e->dxy + dz * dz);
     }
@@ -133,16 +135,15 @@ inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_
     using fv = typename ColumnLanes<Lanes>::f;
     using iv = typename ColumnLanes<Lanes>::i;
     const std::uint32_t col = j * (n + 1) + i;
-    const ColumnEntry* const end = c.end(col);
     const ColumnEntry* first = c.first_reaching(col, k_lo);
     const fv rc2 = fv{} + f.rc2, inv = fv{} + f.inv_2rc2, half = fv{} + 0.5f;
     for (std::int32_t a = k_lo; a <= k_hi; a += Lanes) {
         const std::int32_t b = std::min(a + Lanes - 1, k_hi), lanes = b - a + 1;
         fv z;
-        std::memcpy(&z, pz + (a - k_lo), sizeof z);  // lanes past k_hi: padding, never stored
-        while (first != end && first->mid_z + c.reach + 1 < a) ++first;  // below this run of slices
+        std::memcpy(&z, pz + (a - k_lo), sizeof z);      // lanes past k_hi: padding, never stored
+        while (first->mid_z < a - c.reach - 1) ++first;  // below this run of slices
         fv sum = fv{};
-        for (const ColumnEntry* e = first; e != end && e->mid_z - c.reach <= b; ++e) {
+        for (const ColumnEntry* e = first; e->mid_z - c.reach <= b; ++e) {
             const fv dz = e->z - z;
             const fv r2 = e->dxy + dz * dz;
             const fv q = r2 * inv - half;
