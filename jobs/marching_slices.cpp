@@ -156,15 +156,18 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     // ---- seeds 2: every block face the surface can cross ----
     // Corners a particle can reach: its cell c reaches corner planes [c - reach, c + reach + 1] on each
     // axis, so the block's particles bound the corners where F can be non-zero; elsewhere F = 0 < iso.
+    // SliceGrid::cell is monotone, so the cells of the lowest and highest coordinates bound them all.
     std::int32_t near_lo[3] = {std::int32_t(n1), std::int32_t(n1), std::int32_t(n1)},
                  near_hi[3] = {-1, -1, -1};
-    for (std::size_t q = 0; q < particles.size(); ++q) {
-        const std::int32_t c[3] = {SliceGrid::cell(particles.x[q], g.ox, g.voxel) - i0,
-                                   SliceGrid::cell(particles.y[q], g.oy, g.voxel) - j0,
-                                   SliceGrid::cell(particles.z[q], g.oz, g.voxel) - k0};
-        for (int a = 0; a < 3; ++a)
-            near_lo[a] = std::min(near_lo[a], c[a] - g.reach),
-            near_hi[a] = std::max(near_hi[a], c[a] + g.reach + 1);
+    if (!particles.x.empty()) {
+        const std::span<const float> axes[3] = {particles.x, particles.y, particles.z};
+        const float origin[3] = {g.ox, g.oy, g.oz};
+        const std::int32_t block_origin[3] = {i0, j0, k0};
+        for (int a = 0; a < 3; ++a) {
+            const auto [lo, hi] = std::minmax_element(axes[a].begin(), axes[a].end());
+            near_lo[a] = SliceGrid::cell(*lo, origin[a], g.voxel) - block_origin[a] - g.reach;
+            near_hi[a] = SliceGrid::cell(*hi, origin[a], g.voxel) - block_origin[a] + g.reach + 1;
+        }
     }
     for (int a = 0; a < 3; ++a)
         near_lo[a] = std::max(near_lo[a], 0), near_hi[a] = std::min(near_hi[a], std::int32_t(n));

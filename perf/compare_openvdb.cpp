@@ -19,6 +19,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "runtime/lib/allocator_tuning.h"
 #include "runtime/lib/mesh_extraction.h"
 #include "runtime/lib/stage_summary.h"
 #include "runtime/lib/thread_control.h"
@@ -125,6 +126,8 @@ int main(int argc, char** argv) {
     app.add_option("--block", block, "Marching slices: cubes per block edge")->capture_default_str();
     app.add_option("--json", json_out, "Write the table as JSON");
     CLI11_PARSE(app, argc, argv);
+    // The same malloc settings as the rivulet command (they apply to both libraries in this process).
+    keep_freed_memory_for_reuse();
     openvdb::initialize();
 
     std::vector<std::pair<std::string, ParticleCloud>> inputs;
