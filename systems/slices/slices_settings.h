@@ -16,7 +16,7 @@ namespace rivulet {
 struct SlicesSettings {
     float radius = 0.02f;                      // particle radius, world units
     float voxel = 0;                           // cube edge; <= 0: radius / 2
-    std::uint32_t block_cubes = 32;            // n: a block is n^3 cubes
+    std::uint32_t block_cubes = 40;            // n: a block is n^3 cubes
     float rc_factor = 2.0f;                    // R_c / radius
     float iso = 0;                             // threshold on F; <= 0: calibrated_iso(rc_factor)
     std::uint32_t max_blocks = 1u << 20;       // non-empty blocks a frame may have
