@@ -146,16 +146,22 @@ RIVULET_INLINE void accumulate_lanes(const float* p, const std::uint32_t* v, flo
     const F inv = 1.0f / len;  // dead lanes (len 0) are masked below
     const F nrm[3] = {c[0] * inv, c[1] * inv, c[2] * inv};
     f4 add[3][L];  // add[a][l]: what corner a of lane l adds to its vertex, as (x, y, z, 0)
-    for (int a = 0; a < 3; ++a) {
+    // The angles at corners 0 and 1 by atan2; the angle at corner 2 is what is left of pi (a triangle's
+    // angles sum to pi), which saves a third of the division and polynomial work.
+    F angle[3];
+    for (int a = 0; a < 2; ++a) {
         const F* o = q[a];
         const F* b = q[(a + 1) % 3];
         const F* d = q[(a + 2) % 3];
         const F u[3] = {b[0] - o[0], b[1] - o[1], b[2] - o[2]};
         const F w[3] = {d[0] - o[0], d[1] - o[1], d[2] - o[2]};
-        F angle;
-        edge_angle<F, I>(len, u[0] * w[0] + u[1] * w[1] + u[2] * w[2], angle);
+        edge_angle<F, I>(len, u[0] * w[0] + u[1] * w[1] + u[2] * w[2], angle[a]);
+    }
+    angle[2] = (3.14159265359f - angle[0]) - angle[1];
+    for (int a = 0; a < 3; ++a) {
         F col[3];
-        for (int k = 0; k < 3; ++k) col[k] = reinterpret_cast<F>(reinterpret_cast<I>(angle * nrm[k]) & live);
+        for (int k = 0; k < 3; ++k)
+            col[k] = reinterpret_cast<F>(reinterpret_cast<I>(angle[a] * nrm[k]) & live);
         for (int h = 0; h < Q; ++h)
             transpose_out(quarter(col[0], h), quarter(col[1], h), quarter(col[2], h), add[a] + 4 * h);
     }
