@@ -7,6 +7,7 @@
 #include "jobs/bit_rows.h"
 #include "jobs/cpu_dispatch.h"
 #include "jobs/marching_tables.h"
+#include "jobs/slab_mesh.h"
 
 namespace rivulet {
 namespace {
@@ -305,58 +306,25 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         }
     };
 
-    // ---- vertices: one per crossed edge, created once per block ----
+    // ---- vertices: one per crossed edge, created once per block (slab_mesh.h) ----
     std::uint64_t* const made = s.edge_rows.data();  // slice t, axis a, row r: ((t * 3 + a) * n1 + r) * W
     std::fill(made, made + 3 * std::size_t(n1) * n1 * W, std::uint64_t(0));
-    std::uint32_t* const edges = s.edges.data();
-    const std::uint32_t max_vertices = static_cast<std::uint32_t>(
-        std::min({out.positions.size() / 4, out.border.size(), out.foreign.size()}));
-    const std::uint32_t max_triangles = static_cast<std::uint32_t>(out.triangles.size() / 3);
-    float* const positions = out.positions.data();
-    // A corner index on the block's max plane belongs to the next block, except in the last block of the
-    // grid (whose max planes no surface reaches: the grid has a margin).
-    const bool last[3] = {bi + 1 == g.bx, bj + 1 == g.by, bk + 1 == g.bz};
-    // The vertex on the edge from corner (i, r, t) along `axis`, whose corners hold lo and hi.
-    auto create = [&](std::uint32_t axis, std::uint32_t i, std::uint32_t r, std::uint32_t t, float lo,
-                      float hi) {
-        if (st.vertices == max_vertices) {
-            st.overflow = true;
-            return;
-        }
-        ++st.vertices;
-        const bool owned = (i < n || last[0]) && (r < n || last[1]) && (t < n || last[2]);
-        const std::uint32_t id = owned ? st.owned++ : max_vertices - 1 - st.foreign;
-        edges[((std::size_t(t) * n1 + r) * n1 + i) * 3 + axis] = id;
-        float p[3] = {plane_x[i], plane_y[r], column_z[t]};
-        p[axis] = edge_crossing(p[axis], g.voxel, lo, hi, iso);
-        float* const at = positions + std::size_t(id) * 4;
-        at[0] = p[0], at[1] = p[1], at[2] = p[2], at[3] = 0.0f;
-        const std::uint64_t key =
-            edge_key(static_cast<std::uint32_t>(i0) + i, static_cast<std::uint32_t>(j0) + r,
-                     static_cast<std::uint32_t>(k0) + t, axis);
-        if (!owned) {
-            out.foreign[st.foreign++] = {key, id};
-            return;
-        }
-        auto on_plane = [n](std::uint32_t c) { return c == 0 || c == n; };
-        if ((axis != 0 && on_plane(i)) || (axis != 1 && on_plane(r)) || (axis != 2 && on_plane(t)))
-            out.border[st.border++] = {key, id};
-    };
-    // Edges of corner row r in slice t along `axis` that have no vertex yet among `want`; marks them.
-    auto claim_edges = [&](std::uint32_t t, std::uint32_t axis, std::uint32_t r, Row want) {
-        std::uint64_t* const at = made + ((std::size_t(t) * 3 + axis) * n1 + r) * W;
-        const Row was = load_row<W>(at), fresh = and_not(want, was);
-        store_row<W>(at, was | fresh);
-        return fresh;
-    };
-
-    // Cube-relative edge slots, and for each case the slot of every triangle corner.
-    std::uint32_t edge_offset[12];
+    std::uint32_t edge_offset[12];  // cube-relative edge slots
     for (std::uint32_t e = 0; e < 12; ++e) {
         const std::uint32_t lc = mt.edge_corner[e][0];
         edge_offset[e] =
             (((lc >> 2) & 1u) * n1 * n1 + ((lc >> 1) & 1u) * n1 + (lc & 1u)) * 3 + mt.edge_axis[e];
     }
+    SlabMesh mesh;
+    mesh.n = n, mesh.i0 = i0, mesh.j0 = j0, mesh.k0 = k0;
+    mesh.last[0] = bi + 1 == g.bx, mesh.last[1] = bj + 1 == g.by, mesh.last[2] = bk + 1 == g.bz;
+    mesh.voxel = g.voxel, mesh.iso = iso;
+    mesh.plane_x = plane_x.data(), mesh.plane_y = plane_y.data(), mesh.plane_z = column_z.data();
+    mesh.made = made, mesh.edges = s.edges.data(), mesh.edge_offset = edge_offset;
+    mesh.out = out;
+    mesh.max_vertices = static_cast<std::uint32_t>(
+        std::min({out.positions.size() / 4, out.border.size(), out.foreign.size()}));
+    mesh.max_triangles = static_cast<std::uint32_t>(out.triangles.size() / 3);
 
     // ---- the sweep: the lowest slab with queued cubes first ----
     std::uint64_t* const frontier = s.work_rows.data();
@@ -416,62 +384,11 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         }
         if (visit_lo > visit_hi) continue;
 
-        // Vertices on the crossed edges of the visited cubes that have none yet (edges shared with cubes
-        // visited before keep theirs), row by row: x and y edges of the bottom and top slices, z edges.
-        const float* const lower = value[k];
-        const float* const upper = value[k + 1];
-        for (std::int32_t r = visit_lo; r <= visit_hi + 1; ++r) {
-            const auto ur = static_cast<std::uint32_t>(r);
-            Row cubes = r <= visit_hi ? row(visit, ur) : Row{};  // cubes of rows r - 1 and r
-            if (r > visit_lo) cubes = cubes | row(visit, ur - 1);
-            const Row own_row = r <= visit_hi ? row(visit, ur) : Row{};  // y edges: cubes of row r
-            for (std::uint32_t t = k; t <= k + 1; ++t) {
-                const float* const v = t == k ? lower : upper;
-                const std::uint64_t* const in_t = t == k ? in_lo : in_hi;
-                const Row here = row(in_t, ur);
-                const Row x_new = claim_edges(t, 0, ur, cubes & (here ^ shr1(here)));
-                for_each_bit(
-                    x_new, [&](std::uint32_t i) { create(0, i, ur, t, v[ur * n1 + i], v[ur * n1 + i + 1]); });
-                if (ur < n) {
-                    const Row y_new =
-                        claim_edges(t, 1, ur, (own_row | shl1(own_row)) & (here ^ row(in_t, ur + 1)));
-                    for_each_bit(y_new, [&](std::uint32_t i) {
-                        create(1, i, ur, t, v[ur * n1 + i], v[(ur + 1) * n1 + i]);
-                    });
-                }
-            }
-            const Row z_new =
-                claim_edges(k, 2, ur, (cubes | shl1(cubes)) & (row(in_lo, ur) ^ row(in_hi, ur)));
-            for_each_bit(
-                z_new, [&](std::uint32_t i) { create(2, i, ur, k, lower[ur * n1 + i], upper[ur * n1 + i]); });
-        }
-        if (st.overflow) return st;
-
-        // Triangles of the visited cubes, row by row; the case is read off the corner rows.
-        std::uint32_t* const tris = out.triangles.data();
-        for (std::int32_t j = visit_lo; j <= visit_hi; ++j) {
-            const auto uj = static_cast<std::uint32_t>(j);
-            const Row cubes = row(visit, uj);
-            store_row<W>(visit + std::size_t(uj) * W, Row{});
-            const Row a = row(in_lo, uj), b = row(in_lo, uj + 1), c = row(in_hi, uj), d = row(in_hi, uj + 1);
-            const std::uint32_t* const slots = edges + (std::size_t(k) * n1 + uj) * n1 * 3;
-            st.cubes += popcount(cubes);
-            for_each_bit(cubes, [&](std::uint32_t i) {
-                const std::uint32_t mask =
-                    two_bits(a, i) | two_bits(b, i) << 2 | two_bits(c, i) << 4 | two_bits(d, i) << 6;
-                const std::uint32_t ntri = mt.triangle_count[mask];
-                if (st.triangles + ntri > max_triangles) {
-                    st.overflow = true;
-                    return;
-                }
-                const std::uint32_t* const cube_slots = slots + i * 3;
-                std::uint32_t* const tri = tris + std::size_t(st.triangles) * 3;
-                for (std::uint32_t q = 0; q < ntri * 3; ++q)
-                    tri[q] = cube_slots[edge_offset[static_cast<std::uint32_t>(mt.triangles[mask][q])]];
-                st.triangles += ntri;
-            });
-            if (st.overflow) return st;
-        }
+        mesh.k = k, mesh.lower = value[k], mesh.upper = value[k + 1];
+        mesh.inside_lower = in_lo, mesh.inside_upper = in_hi;
+        mesh.visit = visit, mesh.row_lo = visit_lo, mesh.row_hi = visit_hi;
+        if (!create_slab_vertices<W>(mesh, st) || !write_slab_triangles<W>(mesh, st)) return st;
+        std::fill(visit + std::size_t(visit_lo) * W, visit + std::size_t(visit_hi + 1) * W, std::uint64_t(0));
     }
     return st;
 }
