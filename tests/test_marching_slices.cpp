@@ -200,6 +200,18 @@ TEST(MarchingSlices, MatchesBruteForceOnRandomBlobs) {
     }
 }
 
+// The field's reach bounds (which blocks list a particle, which slices its column entries serve) hold
+// for voxels that do not divide R_c, and for particles lying exactly on corner planes (cell borders).
+TEST(MarchingSlices, MatchesBruteForceWhenVoxelsDoNotDivideRcAndOnCellBorders) {
+    const Cloud c = blobs(7, 4, 40, 0.1f);
+    for (float voxel : {0.037f, 0.061f}) expect_matches_reference(c, settings_for(0.1f, 8, voxel));
+    Cloud lattice;  // spacing 4 voxels of 0.05: every particle on a corner of the grid
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 5; ++j)
+            for (int k = 0; k < 4; ++k) lattice.add(0.2f * float(i), 0.2f * float(j), 0.2f * float(k));
+    for (std::uint32_t block : {8u, 12u}) expect_matches_reference(lattice, settings_for(0.1f, block, 0.05f));
+}
+
 namespace {
 
 // The blob cloud of the per-block tests, extracted once (for its grid), and the lookup cache of any of

@@ -63,7 +63,11 @@ SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max
     grid_.rc = rc_;
     grid_.n = settings.block_cubes;
     div_n_magic_ = ((std::uint64_t(1) << 32) + grid_.n - 1) / grid_.n;
-    grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ / voxel_)) + 1;
+    // A particle in cell c reaches corners within R_c, i.e. (in exact arithmetic) [c - floor(R), c +
+    // floor(R) + 1] for R = R_c / voxel; ceil(R) claims one corner more on each side whenever R is an
+    // integer, a whole voxel of margin against rounding of cells and distances (was ceil(R) + 1: every
+    // column lookup then scanned a fifth more entries, and blocks listed more particles).
+    grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ / voxel_));
 }
 
 SlicesExtractor::~SlicesExtractor() = default;

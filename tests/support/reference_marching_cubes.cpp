@@ -1,6 +1,7 @@
 #include "support/reference_marching_cubes.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <unordered_map>
 
@@ -18,6 +19,9 @@ ReferenceMesh reference_marching_cubes(const SliceGrid& g, float iso, ConstPosit
     for (std::size_t i = 0; i < p.size(); ++i) mid[i] = SliceGrid::cell(p.z[i], g.oz, g.voxel);
     std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return mid[a] < mid[b]; });
 
+    // A particle adds exactly +0 beyond R_c; skipping those farther than twice R_c in z (plus a slab for
+    // rounding) keeps the oracle quick without relying on the extractor's own reach.
+    const std::int32_t skip = 2 * static_cast<std::int32_t>(std::ceil(g.rc / g.voxel)) + 2;
     std::vector<float> field(std::size_t(nx) * ny * nz);
     for (std::uint32_t k = 0; k < nz; ++k)
         for (std::uint32_t j = 0; j < ny; ++j)
@@ -26,7 +30,7 @@ ReferenceMesh reference_marching_cubes(const SliceGrid& g, float iso, ConstPosit
                             pz = g.cz(std::int32_t(k));
                 float sum = 0.0f;
                 for (std::uint32_t q : order) {
-                    if (std::abs(mid[q] - std::int32_t(k)) > g.reach + 2) continue;  // adds exactly 0
+                    if (std::abs(mid[q] - std::int32_t(k)) > skip) continue;  // adds exactly 0
                     const float dx = p.x[q] - px, dy = p.y[q] - py, dz = p.z[q] - pz;
                     sum += f(dx * dx + dy * dy + dz * dz);
                 }
