@@ -15,9 +15,8 @@ namespace {
 constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's limit on block_cubes
 
 // The sweep of one block, built twice (march_block): `RunLanes` slices per column-kernel pass in the
-// seed walks and the x/y face scans, whose runs are long (8 in the AVX2 build, 4 in the baseline). The
-// sweep's own runs stay at four slices: it rarely needs more of a column. Either build gives the same
-// bits (cache_column).
+// seed walks, the x/y face scans and the sweep's corner runs (8 in the AVX2 build, 4 in the baseline).
+// Either build gives the same bits (cache_column).
 template <int W, int RunLanes>
 RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj,
                                                 std::uint32_t bk, float iso, const LookupCacheView& cache,
@@ -287,15 +286,15 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
                 --live;
             }
     };
-    // F at column (i, r) for slices [from, from + 3] (up to the top slice): one pass over the column's
-    // entries, so the slabs above in this column mostly find their corners done. Recomputing a known
-    // corner gives the same bits.
-    constexpr std::uint32_t kSweepRun = 4;
+    // F at column (i, r) for slices [from, from + RunLanes - 1] (up to the top slice): one pass over the
+    // column's entries, so the slabs above in this column mostly find their corners done (a pass costs
+    // more for its lookup than for its entries). Recomputing a known corner gives the same bits.
+    constexpr std::uint32_t kSweepRun = RunLanes;
     auto evaluate = [&](std::uint32_t i, std::uint32_t r, std::uint32_t from) {
         const std::uint32_t to = std::min(from + kSweepRun - 1, n);
         float run[kSweepRun];
-        cache_column(cache, n, i, r, static_cast<std::int32_t>(from), static_cast<std::int32_t>(to),
-                     column_z.data() + from, f, run);
+        cache_column<RunLanes>(cache, n, i, r, static_cast<std::int32_t>(from), static_cast<std::int32_t>(to),
+                               column_z.data() + from, f, run);
         const std::size_t word = r * W + i / 64;
         const std::uint64_t bit = std::uint64_t(1) << (i % 64);
         for (std::uint32_t t = from; t <= to; ++t) {
