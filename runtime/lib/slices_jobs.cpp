@@ -28,8 +28,8 @@ SlicesJobIds add_slices_jobs(FrameGraph& g, SlicesExtractor& slices,
         [&s, out, item](std::size_t b) { s.weld_block(item(b), out()); }, {id.offsets});
     id.normals = g.parallel(
         "slices.normals", [&s] { return std::size_t(s.blocks()); },
-        [&s, item](std::size_t b) { s.normals_block(item(b)); }, {id.weld});
-    id.borders = g.serial("slices.borders", [&s] { s.borders(); }, {id.normals});
+        [&s, item](std::size_t b) { s.normals_block(item(b)); }, {id.blocks});
+    id.borders = g.serial("slices.borders", [&s] { s.borders(); }, {id.normals, id.weld});
     id.stage = g.parallel(
         "slices.stage", [&s] { return std::size_t(s.blocks()); },
         [&s, out, item](std::size_t b) { s.stage(item(b), out()); }, {id.borders});

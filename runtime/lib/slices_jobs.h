@@ -1,8 +1,9 @@
 #pragma once
 // The marching-slices jobs of a frame graph (seed 004 §3.2), shared by `mesh` (alone) and, later, `run`.
 // See SlicesExtractor for what each job does. Job names carry the `slices.` prefix:
-//   slices.begin -> slices.count* -> slices.prefix -> slices.scatter* -> slices.blocks* -> slices.offsets
-//   -> slices.weld* -> slices.normals* -> slices.borders -> slices.stage*           (* = parallel items)
+//   slices.begin -> slices.count* -> slices.prefix -> slices.scatter* -> slices.blocks*, then both
+//   slices.offsets -> slices.weld* and slices.normals* (a block's own sums need no offsets), then
+//   slices.borders -> slices.stage*                                                (* = parallel items)
 #include <functional>
 #include <initializer_list>
 
