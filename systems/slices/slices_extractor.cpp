@@ -122,13 +122,32 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
     }
     float lo[3] = {p.x[0], p.y[0], p.z[0]}, hi[3] = {lo[0], lo[1], lo[2]};
     const std::span<const float> axes[3] = {p.x, p.y, p.z};
-    for (int a = 0; a < 3; ++a)
-        for (std::size_t i = 0; i < particles_; ++i) {
-            const float v = axes[a][i];
-            if (!std::isfinite(v))
-                throw std::invalid_argument(fmt::format("particle {} has a non-finite coordinate", i));
-            lo[a] = std::min(lo[a], v), hi[a] = std::max(hi[a], v);
+    // Bounds without a branch per coordinate: v - v is NaN exactly when v is NaN or infinite. Only when
+    // some coordinate is, the slow loop finds the first (axis by axis) for the message.
+    bool finite = true;
+    for (int a = 0; a < 3; ++a) {
+        float l[4] = {lo[a], lo[a], lo[a], lo[a]}, h[4] = {hi[a], hi[a], hi[a], hi[a]};
+        bool ok[4] = {true, true, true, true};
+        const float* v = axes[a].data();
+        std::size_t i = 0;
+        for (; i + 4 <= particles_; i += 4)
+            for (int q = 0; q < 4; ++q) {
+                const float x = v[i + std::size_t(q)];
+                ok[q] &= (x - x) == 0.0f;
+                l[q] = x < l[q] ? x : l[q], h[q] = x > h[q] ? x : h[q];
+            }
+        for (; i < particles_; ++i) {
+            ok[0] &= (v[i] - v[i]) == 0.0f;
+            l[0] = v[i] < l[0] ? v[i] : l[0], h[0] = v[i] > h[0] ? v[i] : h[0];
         }
+        for (int q = 0; q < 4; ++q)
+            finite &= ok[q], lo[a] = std::min(lo[a], l[q]), hi[a] = std::max(hi[a], h[q]);
+    }
+    if (!finite)
+        for (int a = 0; a < 3; ++a)
+            for (std::size_t i = 0; i < particles_; ++i)
+                if (!std::isfinite(axes[a][i]))
+                    throw std::invalid_argument(fmt::format("particle {} has a non-finite coordinate", i));
     float origin[3];
     std::uint32_t nb[3];
     for (int a = 0; a < 3; ++a) {
