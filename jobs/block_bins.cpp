@@ -14,8 +14,11 @@ ParticleReach particle_reach(const SliceGrid& g, float x, float y, float z) {
         r.lo[a] = c - g.reach;
         r.hi[a] = c + g.reach + 1;
         // Block b holds corners [b n, b n + n]: it is touched when b n <= hi and b n + n >= lo.
-        const std::int32_t blo = std::max<std::int32_t>(0, (std::max(r.lo[a], 0) + n - 1) / n - 1);
-        const std::int32_t bhi = std::min<std::int32_t>(static_cast<std::int32_t>(nb[a]) - 1, r.hi[a] / n);
+        const auto over = [&](std::int32_t v) {  // v / n, rounding toward zero
+            return v >= 0 ? static_cast<std::int32_t>(g.block_of(static_cast<std::uint32_t>(v))) : v / n;
+        };
+        const std::int32_t blo = std::max<std::int32_t>(0, over(std::max(r.lo[a], 0) + n - 1) - 1);
+        const std::int32_t bhi = std::min<std::int32_t>(static_cast<std::int32_t>(nb[a]) - 1, over(r.hi[a]));
         r.blo[a] = blo;
         r.bhi[a] = bhi;  // bhi < blo: no block (never for particles inside the grid)
     }

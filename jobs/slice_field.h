@@ -30,11 +30,21 @@ struct SliceGrid {
     float ox = 0, oy = 0, oz = 0;  // corner (0, 0, 0)
     float voxel = 1;
     float rc = 1;
-    std::uint32_t n = 16;                  // cubes per block edge
-    std::uint32_t bx = 0, by = 0, bz = 0;  // blocks per axis
+    std::uint32_t n = 16;                            // cubes per block edge (set with set_block_cubes)
+    std::uint64_t n_magic = std::uint64_t(1) << 28;  // ceil(2^32 / n)
+    std::uint32_t bx = 0, by = 0, bz = 0;            // blocks per axis
     // Conservative reach of one particle in corners: every corner within R_c of it lies in
     // [floor((p - o) / voxel) - reach, floor((p - o) / voxel) + reach + 1].
     std::int32_t reach = 1;
+
+    void set_block_cubes(std::uint32_t cubes) {
+        n = cubes;
+        n_magic = ((std::uint64_t(1) << 32) + cubes - 1) / cubes;
+    }
+    // c / n for corner indices c < 2^21 by a multiply: ceil(2^32 / n) is exact there for n <= 128 (the
+    // error c (magic n - 2^32) / 2^32 stays below 1 / n); a 32-bit division by a runtime n costs more
+    // than the rest of the callers' work.
+    std::uint32_t block_of(std::uint32_t c) const { return static_cast<std::uint32_t>((c * n_magic) >> 32); }
 
     float cx(std::int32_t i) const { return ox + voxel * static_cast<float>(i); }
     float cy(std::int32_t j) const { return oy + voxel * static_cast<float>(j); }

@@ -167,6 +167,23 @@ TEST(MarchingTables, EveryCaseIsAClosedConsistentPatch) {
     }
 }
 
+// SliceGrid::block_of divides corner indices by the block edge with a multiply: exact for every block
+// edge the settings allow and every corner index a grid can have (below 2^21).
+TEST(BlockBins, BlockOfIsExactDivision) {
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<std::uint32_t> corner(0, (1u << 21) - 1);
+    for (std::uint32_t n = 2; n <= 128; ++n) {
+        SliceGrid g;
+        g.set_block_cubes(n);
+        for (std::uint32_t c = 0; c < (1u << 14); ++c) ASSERT_EQ(g.block_of(c), c / n) << c << " / " << n;
+        for (int t = 0; t < 20000; ++t) {
+            const std::uint32_t c = corner(rng);
+            ASSERT_EQ(g.block_of(c), c / n) << c << " / " << n;
+        }
+        ASSERT_EQ(g.block_of((1u << 21) - 1), ((1u << 21) - 1) / n) << n;
+    }
+}
+
 TEST(BlockBins, DefaultsListAParticleInAtMostEightBlocksInIndexOrder) {
     const Cloud c = blobs(4, 6, 200, 0.05f);
     SlicesExtractor ex(settings_for(0.05f, 16), c.size());

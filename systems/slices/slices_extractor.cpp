@@ -61,8 +61,7 @@ SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max
     voxel_ = settings.voxel_size();
     grid_.voxel = voxel_;
     grid_.rc = rc_;
-    grid_.n = settings.block_cubes;
-    div_n_magic_ = ((std::uint64_t(1) << 32) + grid_.n - 1) / grid_.n;
+    grid_.set_block_cubes(settings.block_cubes);
     // A particle in cell c reaches corners within R_c, i.e. (in exact arithmetic) [c - floor(R), c +
     // floor(R) + 1] for R = R_c / voxel; ceil(R) claims one corner more on each side whenever R is an
     // integer, a whole voxel of margin against rounding of cells and distances (was ceil(R) + 1: every

@@ -112,18 +112,12 @@ class SlicesExtractor {
     // needs more than any before).
     void grow_scratch(std::uint32_t particles, std::uint32_t cache_entries);
     std::uint32_t owner_of(std::uint64_t key) const;
-    // c / n for corner indices (< 2^21) by a multiply: ceil(2^32 / n) is exact there for n <= 128
-    // (the error c (magic n - 2^32) / 2^32 stays below 1 / n); owner_of runs once or twice per vertex and
-    // a 32-bit division by a runtime n costs more than the rest of it.
-    std::uint32_t div_n(std::uint32_t c) const {
-        return static_cast<std::uint32_t>((c * div_n_magic_) >> 32);
-    }
+    std::uint32_t div_n(std::uint32_t c) const { return grid_.block_of(c); }
 
     SlicesSettings settings_;
     std::size_t max_particles_;
     float rc_ = 0, iso_ = 0, voxel_ = 0;
     SliceGrid grid_;
-    std::uint64_t div_n_magic_ = 1;
 
     std::size_t particles_ = 0;
     std::uint32_t chunks_ = 0;
