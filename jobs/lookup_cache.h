@@ -52,14 +52,13 @@ struct LookupCacheView {
     const ColumnEntry* end(std::uint32_t col) const {
         return entries.data() + offsets[groups * columns + col];
     }
-    // The first entry of column col that reaches slice k >= 0 (max_z >= k), or its sentinel: entries are
-    // sorted by mid_z.
-    const ColumnEntry* first_reaching(std::uint32_t col, std::int32_t k) const {
-        const std::int32_t lowest_mid = k - reach - 1;
-        const std::uint32_t g = std::min(lookup_group(lowest_mid, reach), groups);
-        const ColumnEntry* e = entries.data() + offsets[g * columns + col];
-        while (e->mid_z < lowest_mid) ++e;
-        return e;
+    // The first entry of the group of column col that holds the first entry reaching slice k >= 0
+    // (max_z >= k), or its sentinel: entries are sorted by mid_z. The few before that entry lie beyond
+    // R_c of slice k and of every slice above, so a sum over them adds exactly +0: scanning them costs
+    // less than finding where to start.
+    const ColumnEntry* group_start(std::uint32_t col, std::int32_t k) const {
+        const std::uint32_t g = std::min(lookup_group(k - reach - 1, reach), groups);
+        return entries.data() + offsets[g * columns + col];
     }
 };
 
@@ -99,7 +98,7 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
                          std::int32_t k, float pz, SliceKernel f) {
     const std::uint32_t col = j * (n + 1) + i;
     float sum = 0.0f;
-    for (const ColumnEntry* e = c.first_reaching(col, k); e->mid_z - c.reach <= k; ++e) {
+    for (const ColumnEntry* e = c.group_start(col, k); e->mid_z - c.reach <= k; ++e) {
         const float dz = e->z - pz;
         sum += f(e->dxy + dz * dz);
     }
@@ -135,13 +134,14 @@ inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_
     using fv = typename ColumnLanes<Lanes>::f;
     using iv = typename ColumnLanes<Lanes>::i;
     const std::uint32_t col = j * (n + 1) + i;
-    const ColumnEntry* first = c.first_reaching(col, k_lo);
+    const ColumnEntry* first = c.group_start(col, k_lo);
     const fv rc2 = fv{} + f.rc2, inv = fv{} + f.inv_2rc2, half = fv{} + 0.5f;
     for (std::int32_t a = k_lo; a <= k_hi; a += Lanes) {
         const std::int32_t b = std::min(a + Lanes - 1, k_hi), lanes = b - a + 1;
         fv z;
-        std::memcpy(&z, pz + (a - k_lo), sizeof z);      // lanes past k_hi: padding, never stored
-        while (first->mid_z < a - c.reach - 1) ++first;  // below this run of slices
+        std::memcpy(&z, pz + (a - k_lo), sizeof z);  // lanes past k_hi: padding, never stored
+        if (a != k_lo)
+            while (first->mid_z < a - c.reach - 1) ++first;  // below this run of slices
         fv sum = fv{};
         for (const ColumnEntry* e = first; e->mid_z - c.reach <= b; ++e) {
             const fv dz = e->z - z;
