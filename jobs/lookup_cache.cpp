@@ -119,7 +119,7 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     for (std::uint32_t c = 0; c < cols; ++c) {
         const std::uint32_t k = ends[c];
         ends[c] = total;
-        total += k + 1;  // and the sentinel
+        total += k;
     }
     if (total > entries.size()) return total;
     // Pass 2 appends the particles (sorted by mid_z, so group by group) to their columns; where a group
@@ -145,12 +145,11 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
             std::uint32_t* cursor = ends + std::uint32_t(j) * (g.n + 1);
             for (std::int32_t i = a; i <= b; ++i) {
                 const float dx = x - axis_x[std::size_t(i)];
-                entries[cursor[i]++] = {dx * dx + dy * dy, z, mid};
+                entries[cursor[i]++] = {dx * dx + dy * dy, z};
             }
         }
     }
     if (groups > 0) start_groups_up_to(groups - 1);  // groups after the last particle's start at the ends
-    for (std::uint32_t c = 0; c < cols; ++c) entries[ends[c]] = {0.0f, 0.0f, kSentinelMidZ};
     return total;
 }
 

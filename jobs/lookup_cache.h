@@ -2,13 +2,15 @@
 // The particle lookup cache of one marching-slices block (seed 004 §3.2.4): the projection slice of
 // (n+1)^2 columns; column (i, j) lists every particle whose R_c disc covers the column, sorted by the
 // slab of its centre (mid_z, then particle index). min_z = mid_z - reach and max_z = mid_z + reach + 1
-// bound the slices it can influence, all in block-local integer slice units, so an entry stores only
-// mid_z. A corner lookup scans one column with integer comparisons and evaluates the kernel only for
-// particles whose slice range holds the corner.
+// bound the slices it can influence, all in block-local integer slice units. The list is cut into groups
+// of four mid_z values and the cache keeps where every group of every column starts, so the mid_z of
+// an entry is that of its group: a lookup for slices [k_lo, k_hi] takes, by integer arithmetic on k, the
+// groups whose mid_z range can reach them, and evaluates the kernel for their entries (those of a
+// group's mid_z values that cannot reach add exactly +0).
 //
-// An entry also stores dxy = dx^2 + dy^2, its squared distance to the column's axis: the corner distance
-// is evaluated as dx*dx + dy*dy + dz*dz = (dx*dx + dy*dy) + dz*dz left to right, so dxy + dz*dz is the
-// same float, and a lookup needs one subtraction and two products per term.
+// An entry stores dxy = dx^2 + dy^2, its squared distance to the column's axis, and z: the corner
+// distance is evaluated as dx*dx + dy*dy + dz*dz = (dx*dx + dy*dy) + dz*dz left to right, so
+// dxy + dz*dz is the same float, and a lookup needs one subtraction and two products per term.
 //
 // The order of the sum is (mid_z, particle index), a global order: a corner on a block border gets the
 // same bits from both blocks.
@@ -22,18 +24,17 @@
 
 namespace rivulet {
 
+// A particle's entry in one column; its mid_z (slab of the centre) is implied by the group it lies in.
 struct ColumnEntry {
     float dxy;  // squared distance to the column's axis (x and y terms of the corner distance)
     float z;
-    std::int32_t mid_z;  // slab of the centre
 };
-// Each column's list ends with a sentinel whose mid_z no slice reaches, so scans stop on mid_z alone.
-inline constexpr std::int32_t kSentinelMidZ = 0x7fffffff - 256;
 
-// A column's entries are cut into groups of kLookupGroupSlabs consecutive mid_z values; the cache keeps
-// where each group starts, so a lookup finds the first entry that reaches slice k with one load and a
-// short scan instead of a binary search (whose chain of dependent loads into an array the size of L2
-// cost more than the kernel itself).
+// A column's entries are cut into groups of 4 consecutive mid_z values; the cache keeps where each group
+// starts, so the entries that can reach a run of slices are found with two loads (no binary search,
+// whose chain of dependent loads into an array the size of L2 cost more than the kernel itself). The
+// groups round that range out by a few entries that lie beyond R_c of every slice of the run: they add
+// exactly +0, and scanning them costs less than finding where to start and stop.
 inline constexpr std::int32_t kLookupGroupShift = 2;  // groups of 4 slabs
 // Group of mid_z (entries of the block have mid_z >= -reach - 1, so the group is never negative).
 inline std::uint32_t lookup_group(std::int32_t mid_z, std::int32_t reach) {
@@ -41,8 +42,7 @@ inline std::uint32_t lookup_group(std::int32_t mid_z, std::int32_t reach) {
 }
 
 struct LookupCacheView {
-    // Group g of column c starts at entry offsets[g * columns + c]; row `groups` holds the column ends,
-    // where each column's sentinel lies.
+    // Group g of column c starts at entry offsets[g * columns + c]; row `groups` holds the column ends.
     std::span<const std::uint32_t> offsets;
     std::span<const ColumnEntry> entries;
     std::int32_t reach = 1;  // an entry reaches slices [mid_z - reach, mid_z + reach + 1]
@@ -52,12 +52,14 @@ struct LookupCacheView {
     const ColumnEntry* end(std::uint32_t col) const {
         return entries.data() + offsets[groups * columns + col];
     }
-    // The first entry of the group of column col that holds the first entry reaching slice k >= 0
-    // (max_z >= k), or its sentinel: entries are sorted by mid_z. The few before that entry lie beyond
-    // R_c of slice k and of every slice above, so a sum over them adds exactly +0: scanning them costs
-    // less than finding where to start.
-    const ColumnEntry* group_start(std::uint32_t col, std::int32_t k) const {
-        const std::uint32_t g = std::min(lookup_group(k - reach - 1, reach), groups);
+    // From the start of the group holding the lowest mid_z that reaches slice k_lo >= 0 to the end of
+    // the group holding the highest that reaches k_hi: every entry reaching a slice of [k_lo, k_hi].
+    const ColumnEntry* group_start(std::uint32_t col, std::int32_t k_lo) const {
+        const std::uint32_t g = std::min(lookup_group(k_lo - reach - 1, reach), groups);
+        return entries.data() + offsets[g * columns + col];
+    }
+    const ColumnEntry* group_end(std::uint32_t col, std::int32_t k_hi) const {
+        const std::uint32_t g = std::min(lookup_group(k_hi + reach, reach) + 1, groups);
         return entries.data() + offsets[g * columns + col];
     }
 };
@@ -98,7 +100,7 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
                          std::int32_t k, float pz, SliceKernel f) {
     const std::uint32_t col = j * (n + 1) + i;
     float sum = 0.0f;
-    for (const ColumnEntry* e = c.group_start(col, k); e->mid_z - c.reach <= k; ++e) {
+    for (const ColumnEntry *e = c.group_start(col, k), *end = c.group_end(col, k); e != end; ++e) {
         const float dz = e->z - pz;
         sum += f(e->dxy + dz * dz);
     }
@@ -134,16 +136,13 @@ inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_
     using fv = typename ColumnLanes<Lanes>::f;
     using iv = typename ColumnLanes<Lanes>::i;
     const std::uint32_t col = j * (n + 1) + i;
-    const ColumnEntry* first = c.group_start(col, k_lo);
     const fv rc2 = fv{} + f.rc2, inv = fv{} + f.inv_2rc2, half = fv{} + 0.5f;
     for (std::int32_t a = k_lo; a <= k_hi; a += Lanes) {
         const std::int32_t b = std::min(a + Lanes - 1, k_hi), lanes = b - a + 1;
         fv z;
         std::memcpy(&z, pz + (a - k_lo), sizeof z);  // lanes past k_hi: padding, never stored
-        if (a != k_lo)
-            while (first->mid_z < a - c.reach - 1) ++first;  // below this run of slices
         fv sum = fv{};
-        for (const ColumnEntry* e = first; e->mid_z - c.reach <= b; ++e) {
+        for (const ColumnEntry *e = c.group_start(col, a), *end = c.group_end(col, b); e != end; ++e) {
             const fv dz = e->z - z;
             const fv r2 = e->dxy + dz * dz;
             const fv q = r2 * inv - half;
