@@ -1,6 +1,7 @@
 #include "jobs/angle_normals.h"
 
 #include "jobs/cpu_dispatch.h"
+#include "jobs/vector_lanes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,19 +18,7 @@ namespace {
 // build): every lane performs the same float operations in the same order, so a triangle's values do not
 // depend on its lane, its neighbours or L; the adds into the accumulators run one vertex at a time, in
 // triangle order.
-using f4 = float __attribute__((vector_size(16)));
-template <int L>
-struct Lanes;
-template <>
-struct Lanes<4> {
-    using f = float __attribute__((vector_size(16)));
-    using i = std::int32_t __attribute__((vector_size(16)));
-};
-template <>
-struct Lanes<8> {
-    using f = float __attribute__((vector_size(32)));
-    using i = std::int32_t __attribute__((vector_size(32)));
-};
+using f4 = VectorLanes<4>::f;
 
 // Helpers on L-lane vectors take and give them by reference: no 32-byte vector crosses a function
 // boundary of the baseline build (they are all inlined into their caller's build anyway).
@@ -119,8 +108,8 @@ RIVULET_INLINE void transpose_out(f4 x, f4 y, f4 z, f4* out) {
 // +0 is never -0).
 template <int L>
 RIVULET_INLINE void accumulate_lanes(const float* p, const std::uint32_t* v, float* acc) {
-    using F = typename Lanes<L>::f;
-    using I = typename Lanes<L>::i;
+    using F = typename VectorLanes<L>::f;
+    using I = typename VectorLanes<L>::i;
     constexpr int Q = L / 4;
     F q[3][3];  // q[a][c]: coordinate c of corner a, all lanes
     for (int a = 0; a < 3; ++a) {

@@ -21,6 +21,7 @@
 
 #include "jobs/particle_spans.h"
 #include "jobs/slice_field.h"
+#include "jobs/vector_lanes.h"
 
 namespace rivulet {
 
@@ -107,20 +108,6 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
     return sum;
 }
 
-// Lane types of the column kernel: four slices to a vector (SSE2, the x86-64 baseline) or eight (AVX2).
-template <int Lanes>
-struct ColumnLanes;
-template <>
-struct ColumnLanes<4> {
-    using f = float __attribute__((vector_size(16)));
-    using i = std::int32_t __attribute__((vector_size(16)));
-};
-template <>
-struct ColumnLanes<8> {
-    using f = float __attribute__((vector_size(32)));
-    using i = std::int32_t __attribute__((vector_size(32)));
-};
-
 // F at the local corners (i, j, k) of one column for every k in [k_lo, k_hi], written to out[k - k_lo];
 // pz[k - k_lo] is the world z of slice k, readable (any value) up to the next multiple of Lanes entries.
 // Bit-identical to cache_field at each corner: every corner adds the same terms, computed by the same
@@ -133,8 +120,8 @@ struct ColumnLanes<8> {
 template <int Lanes = 4>
 inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
                          std::int32_t k_lo, std::int32_t k_hi, const float* pz, SliceKernel f, float* out) {
-    using fv = typename ColumnLanes<Lanes>::f;
-    using iv = typename ColumnLanes<Lanes>::i;
+    using fv = typename VectorLanes<Lanes>::f;  // Lanes slices to a vector
+    using iv = typename VectorLanes<Lanes>::i;
     const std::uint32_t col = j * (n + 1) + i;
     const fv rc2 = fv{} + f.rc2, inv = fv{} + f.inv_2rc2, half = fv{} + 0.5f;
     for (std::int32_t a = k_lo; a <= k_hi; a += Lanes) {
