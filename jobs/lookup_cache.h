@@ -109,7 +109,9 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
 }
 
 // F at the local corners (i, j, k) of one column for every k in [k_lo, k_hi], written to out[k - k_lo];
-// pz[k - k_lo] is the world z of slice k, readable (any value) up to the next multiple of Lanes entries.
+// pz[k - k_lo] is the world z of slice k, readable (any value), and out writable, up to the next multiple
+// of Lanes entries: whole vectors are stored (a store of the live lanes only was compiled into a call to
+// memcpy, in the hottest loop of the sweep).
 // Bit-identical to cache_field at each corner: every corner adds the same terms, computed by the same
 // float expressions, in the same (entry) order. Lanes slices at a time share one pass over the entries
 // that reach any of them; an entry out of a slice's range is beyond R_c there and adds +0.0f, which
@@ -125,7 +127,7 @@ inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_
     const std::uint32_t col = j * (n + 1) + i;
     const fv rc2 = fv{} + f.rc2, inv = fv{} + f.inv_2rc2, half = fv{} + 0.5f;
     for (std::int32_t a = k_lo; a <= k_hi; a += Lanes) {
-        const std::int32_t b = std::min(a + Lanes - 1, k_hi), lanes = b - a + 1;
+        const std::int32_t b = std::min(a + Lanes - 1, k_hi);
         fv z;
         std::memcpy(&z, pz + (a - k_lo), sizeof z);  // lanes past k_hi: padding, never stored
         fv sum = fv{};
@@ -136,7 +138,7 @@ inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_
             const fv term = q * q;
             sum += reinterpret_cast<fv>(reinterpret_cast<iv>(term) & (r2 < rc2));  // +0 beyond R_c
         }
-        for (std::int32_t l = 0; l < lanes; ++l) out[a - k_lo + l] = sum[l];
+        std::memcpy(out + (a - k_lo), &sum, sizeof sum);
     }
 }
 

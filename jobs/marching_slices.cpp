@@ -45,10 +45,10 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     };
     // F at one corner by the branch-free column kernel (a run of one slice).
     auto corner = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-        float v;
+        float v[4];
         cache_column(cache, n, i, j, static_cast<std::int32_t>(k), static_cast<std::int32_t>(k),
-                     column_z.data() + k, f, &v);
-        return v;
+                     column_z.data() + k, f, v);
+        return v[0];
     };
 
     // ---- the queue: per slab, rows of cubes queued (the todo list) and ever queued ----
@@ -174,7 +174,7 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     // Face (a, side) as bit rows: bit u of row w is set where F >= iso (u, w the next two axes after a),
     // `words` 64-bit words per row plus a zero word, so a row shifted by one bit reads its neighbour.
     const std::uint32_t words = (n1 + 63) / 64, stride = words + 1;
-    std::array<float, kMaxBlockCubes + 1> column_f{};
+    std::array<float, kMaxBlockCubes + 8> column_f{};  // padded: whole vectors are stored
     auto fill_face = [&](std::uint32_t a, std::uint32_t side, std::uint64_t* bits) {
         auto set_bit = [bits, stride](std::uint32_t row, std::uint32_t bit) {
             bits[row * stride + bit / 64] |= std::uint64_t(1) << (bit % 64);

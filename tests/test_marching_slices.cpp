@@ -266,7 +266,8 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
     const SliceGrid& g = caches.g;
     const SliceKernel f = SliceKernel::from_rc(g.rc);
     const std::uint32_t n = g.n;
-    std::vector<float> pz(n + 8), column(n + 1), column8(n + 1);  // cache_column reads pz in fours/eights
+    // cache_column reads pz and writes out in whole fours/eights
+    std::vector<float> pz(n + 8), column(n + 8), column8(n + 8);
     std::size_t nonzero = 0;
     for (std::uint32_t b = 0; b < g.blocks(); ++b) {
         const std::uint32_t bi = b % g.bx, bj = (b / g.bx) % g.by, bk = b / (g.bx * g.by);
@@ -278,7 +279,7 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
                 cache_column(view, n, i, j, 0, std::int32_t(n), pz.data(), f, column.data());
                 // Eight slices a pass (the AVX2 build's walks and face scans): the same bits.
                 cache_column<8>(view, n, i, j, 0, std::int32_t(n), pz.data(), f, column8.data());
-                ASSERT_EQ(std::memcmp(column.data(), column8.data(), column.size() * sizeof(float)), 0) << b;
+                ASSERT_EQ(std::memcmp(column.data(), column8.data(), (n + 1) * sizeof(float)), 0) << b;
                 for (std::uint32_t k = 0; k <= n; ++k) {
                     const float want = cache_field(view, n, i, j, std::int32_t(k), pz[k], f);
                     ASSERT_EQ(std::memcmp(&want, &column[k], sizeof(float)), 0) << b << " " << i << " " << j;
