@@ -9,6 +9,7 @@
 #include "jobs/angle_normals.h"
 #include "jobs/bin_sort.h"
 #include "jobs/block_bins.h"
+#include "jobs/weld_indices.h"
 
 namespace rivulet {
 namespace {
@@ -327,7 +328,7 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     slot.owned = slot.sweep.owned;
     slot.border_n = slot.sweep.border;
     slot.foreign_n = slot.sweep.foreign;
-    ensure(slot.foreign_owner, slot.foreign_n);
+    ensure(slot.foreign_owner, slot.foreign_n), ensure(slot.foreign_mesh, slot.foreign_n);
     ensure(slot.acc, std::size_t(slot.capacity) * 4);
     // The neighbours look this block's border vertices up by key.
     std::sort(slot.border.data(), slot.border.data() + slot.border_n,
@@ -377,20 +378,12 @@ void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
                 "marching slices: block {} refers to a border vertex its owner block did not produce",
                 active_[item]));
         s.foreign_owner[q] = {static_cast<std::uint32_t>(owner), it->index};
+        s.foreign_mesh[q] = static_cast<std::uint32_t>(o->vertex_offset) + it->index;
     }
-    // Owned vertex v is mesh vertex offset + v; foreign vertex capacity - 1 - q is the q-th foreign one.
-    const auto offset = static_cast<std::uint32_t>(s.vertex_offset);
-    const std::uint32_t top = s.capacity - 1;
-    std::uint32_t* idx = out.indices.data() + s.triangle_offset * 3;
-    for (std::size_t t = 0; t < std::size_t(s.triangles_n) * 3; ++t) {
-        const std::uint32_t v = s.triangles[t];
-        if (v < s.owned) {
-            idx[t] = offset + v;
-        } else {
-            const OwnerVertex& o = s.foreign_owner[top - v];
-            idx[t] = static_cast<std::uint32_t>(slots_[o.item].vertex_offset) + o.vertex;
-        }
-    }
+    const BlockVertexMap map{s.owned, static_cast<std::uint32_t>(s.vertex_offset), s.capacity - 1,
+                             s.foreign_mesh.span(s.foreign_n)};
+    const std::size_t corners = std::size_t(s.triangles_n) * 3;
+    weld_indices(s.triangles.span(corners), map, {out.indices.data() + s.triangle_offset * 3, corners});
 }
 
 void SlicesExtractor::normals_block(std::uint32_t item) {

@@ -94,10 +94,11 @@ class SlicesExtractor {
     struct BlockSlot {
         AlignedArray<float> positions;  // 4 per vertex (x, y, z, 0)
         AlignedArray<std::uint32_t> triangles;
-        AlignedArray<KeyedVertex> border;         // owned vertices other blocks may refer to, sorted by key
-        AlignedArray<KeyedVertex> foreign;        // vertices other blocks own, in creation order (borders)
-        AlignedArray<OwnerVertex> foreign_owner;  // where each foreign vertex lives
-        AlignedArray<float> acc;                  // normal accumulators, 4 per vertex
+        AlignedArray<KeyedVertex> border;          // owned vertices other blocks may refer to, sorted by key
+        AlignedArray<KeyedVertex> foreign;         // vertices other blocks own, in creation order (borders)
+        AlignedArray<OwnerVertex> foreign_owner;   // where each foreign vertex lives
+        AlignedArray<std::uint32_t> foreign_mesh;  // its mesh index
+        AlignedArray<float> acc;                   // normal accumulators, 4 per vertex
         // Block-local vertices: owned 0 .. owned - 1, foreign capacity - foreign_n .. capacity - 1.
         std::uint32_t capacity = 0, triangles_n = 0, owned = 0, border_n = 0, foreign_n = 0;
         std::uint32_t particles = 0, cache_entries = 0;  // what the block's sweep scratch had to hold
