@@ -168,8 +168,10 @@ RIVULET_INLINE void accumulate_body(std::span<const float> p, std::span<const st
     std::size_t t = 0;
     for (; t + L <= count; t += L) accumulate_lanes<L>(p.data(), tri.data() + t * 3, acc.data());
     if (t < count) {
-        // The last triangles, padded with zero-area ones (vertex 0 three times).
-        std::uint32_t tail[3 * L] = {};
+        // The last triangles, padded with zero-area ones (a vertex they use, three times: it has a
+        // position and a zeroed sum, to which they add +0).
+        std::uint32_t tail[3 * L];
+        std::fill(tail, tail + 3 * L, tri[t * 3]);
         std::copy(tri.data() + t * 3, tri.data() + count * 3, tail);
         accumulate_lanes<L>(p.data(), tail, acc.data());
     }

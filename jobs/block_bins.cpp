@@ -26,8 +26,9 @@ ParticleReach particle_reach(const SliceGrid& g, float x, float y, float z) {
 }
 
 std::uint32_t max_blocks_per_particle(const SliceGrid& g) {
-    // Corner range width 2 reach + 2 spans at most ceil((2 reach + 1) / n) + 1 blocks per axis.
-    const std::uint32_t w = (2u * static_cast<std::uint32_t>(g.reach) + 1u + g.n - 1u) / g.n + 1u;
+    // A corner range [lo, lo + 2 reach + 1] touches blocks ceil(lo / n) - 1 .. floor(hi / n) (block b holds
+    // corners [b n, b n + n]): at most floor((2 reach + 1) / n) + 2 per axis, when lo is a multiple of n.
+    const std::uint32_t w = (2u * static_cast<std::uint32_t>(g.reach) + 1u) / g.n + 2u;
     return w * w * w;
 }
 

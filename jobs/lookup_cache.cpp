@@ -8,9 +8,8 @@
 namespace rivulet {
 namespace {
 
-constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's limit on block_cubes
-constexpr std::uint16_t kEmptyRow = 0x00ff;    // i_lo = 255 > i_hi = 0
-constexpr std::uint32_t kWindow = 64;          // columns tested per window of row tests (16 x 4 lanes)
+constexpr std::uint16_t kEmptyRow = 0x00ff;  // i_lo = 255 > i_hi = 0
+constexpr std::uint32_t kWindow = 64;        // columns tested per window of row tests (16 x 4 lanes)
 
 }  // namespace
 

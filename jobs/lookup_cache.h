@@ -49,10 +49,6 @@ struct LookupCacheView {
     std::int32_t reach = 1;  // an entry reaches slices [mid_z - reach, mid_z + reach + 1]
     std::uint32_t groups = 1, columns = 1;
 
-    const ColumnEntry* begin(std::uint32_t col) const { return entries.data() + offsets[col]; }
-    const ColumnEntry* end(std::uint32_t col) const {
-        return entries.data() + offsets[groups * columns + col];
-    }
     // From the start of the group holding the lowest mid_z that reaches slice k_lo >= 0 to the end of
     // the group holding the highest that reaches k_hi: every entry reaching a slice of [k_lo, k_hi].
     const ColumnEntry* group_start(std::uint32_t col, std::int32_t k_lo) const {
@@ -117,8 +113,9 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
 // that reach any of them; an entry out of a slice's range is beyond R_c there and adds +0.0f, which
 // leaves that sum's bits unchanged, so the lane count changes no bit either. GCC/Clang vector
 // extensions: independent IEEE lanes, the same operations as the scalar code (no contraction:
-// -ffp-contract=off). The seed walks, the face scans and the sweep all evaluate corners through this (a
-// lone corner is a run of one). Eight lanes only pay in a function built for AVX2 (march_block's).
+// -ffp-contract=off). The seed walks, the face scans, the exhaustive seeds and the sweep all evaluate
+// corners through this (a lone corner is a run of one); cache_field is the tests' scalar reference. Eight
+// lanes only pay in a function built for AVX2 (march_block's).
 template <int Lanes = 4>
 inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
                          std::int32_t k_lo, std::int32_t k_hi, const float* pz, SliceKernel f, float* out) {

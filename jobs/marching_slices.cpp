@@ -12,8 +12,6 @@
 namespace rivulet {
 namespace {
 
-constexpr std::uint32_t kMaxBlockCubes = 128;  // SlicesSettings::validate's limit on block_cubes
-
 // The sweep of one block, built twice (march_block): `RunLanes` slices per column-kernel pass in the
 // seed walks, the x/y face scans and the sweep's corner runs (8 in the AVX2 build, 4 in the baseline).
 // Either build gives the same bits (cache_column).
@@ -40,9 +38,6 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         plane_y[k] = g.cy(j0 + static_cast<std::int32_t>(k));
         column_z[k] = g.cz(k0 + static_cast<std::int32_t>(k));
     }
-    auto field = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-        return cache_field(cache, n, i, j, static_cast<std::int32_t>(k), column_z[k], f);
-    };
     // F at one corner by the branch-free column kernel (a run of one slice).
     auto corner = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
         float v[4];
@@ -139,12 +134,15 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     }
 
     // ---- optional seeds 3: every sign change on every z column (finds empty cavities too) ----
+    std::array<float, kMaxBlockCubes + 8> column_f{};  // padded: whole vectors are stored
     if (exhaustive)
         for (std::uint32_t j = 0; j <= n; ++j)
             for (std::uint32_t i = 0; i <= n; ++i) {
-                bool below = field(i, j, 0) >= iso;
+                cache_column<RunLanes>(cache, n, i, j, 0, std::int32_t(n), column_z.data(), f,
+                                       column_f.data());
+                bool below = column_f[0] >= iso;
                 for (std::uint32_t k = 1; k <= n; ++k) {
-                    const bool here = field(i, j, k) >= iso;
+                    const bool here = column_f[k] >= iso;
                     if (here != below)
                         for (std::int32_t dj = -1; dj <= 0; ++dj)
                             for (std::int32_t di = -1; di <= 0; ++di)
@@ -174,7 +172,6 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     // Face (a, side) as bit rows: bit u of row w is set where F >= iso (u, w the next two axes after a),
     // `words` 64-bit words per row plus a zero word, so a row shifted by one bit reads its neighbour.
     const std::uint32_t words = (n1 + 63) / 64, stride = words + 1;
-    std::array<float, kMaxBlockCubes + 8> column_f{};  // padded: whole vectors are stored
     auto fill_face = [&](std::uint32_t a, std::uint32_t side, std::uint64_t* bits) {
         auto set_bit = [bits, stride](std::uint32_t row, std::uint32_t bit) {
             bits[row * stride + bit / 64] |= std::uint64_t(1) << (bit % 64);

@@ -26,9 +26,10 @@
 //     publishes its bits for the other (SharedFace).
 //
 // Vertices are shared within the block through an edge table (one vertex per crossed edge, created once
-// per block); each carries its global edge key so the extractor can weld block borders. The cubes a
-// block visits are the closure of its seeds under "shares a crossed face", whatever the order of
-// visiting, so the triangles are those of plain marching cubes over the same cubes.
+// per block); those on block borders are also listed with their global edge key (BlockMeshOut::border and
+// foreign) so the extractor can weld block borders. The cubes a block visits are the closure of its seeds
+// under "shares a crossed face", whatever the order of visiting, so the triangles are those of plain
+// marching cubes over the same cubes.
 #include <array>
 #include <cstdint>
 #include <span>
@@ -48,7 +49,7 @@ constexpr std::uint32_t row_words(std::uint32_t n) {
 // blocks, nothing in it needs clearing between them.
 struct SliceScratch {
     std::span<float> slices;                   // (n+1) * (n+1)^2: slice cache pool (corner values)
-    std::span<std::uint64_t> face_bits;        // (n+1) * face_words(n): one block face at a time
+    std::span<std::uint64_t> face_bits;        // (n+1) * (W+1): one block face at a time
     std::span<std::uint64_t> slice_rows;       // 2 (n+1)^2 W: per slice, rows of corners computed and inside
     std::span<std::uint64_t> slab_rows;        // 2 n^2 W: per slab, rows of cubes queued and ever queued
     std::span<std::uint64_t> edge_rows;        // 3 (n+1)^2 W: per slice and axis, rows of edges with a vertex

@@ -104,21 +104,6 @@ struct Builder {
             }
         }
         t.triangle_count[m] = static_cast<std::uint8_t>(count);
-        std::uint16_t named = 0;
-        int order = 0;
-        for (int i = 0; i < count * 3; ++i) {
-            const int e = t.triangles[m][std::size_t(i)];
-            if ((named >> e) & 1) continue;
-            named = static_cast<std::uint16_t>(named | (1u << e));
-            t.edge_order[m][std::size_t(order++)] = static_cast<std::int8_t>(e);
-        }
-        t.edge_count[m] = static_cast<std::uint8_t>(order);
-        std::uint8_t faces = 0;
-        for (int f = 0; f < 6; ++f) {
-            const unsigned fm = t.face_corners[std::size_t(f)], in = unsigned(m) & fm;
-            if (in != 0 && in != fm) faces = static_cast<std::uint8_t>(faces | (1u << f));
-        }
-        t.crossed_faces[m] = faces;
         return true;
     }
 
@@ -138,14 +123,6 @@ struct Builder {
     }
 
     void build() {
-        for (int axis = 0; axis < 3; ++axis)
-            for (int side = 0; side < 2; ++side) {
-                int c[4];
-                face_cycle(axis, side, c);
-                std::uint8_t mask = 0;
-                for (int i : c) mask = static_cast<std::uint8_t>(mask | (1u << i));
-                t.face_corners[std::size_t(axis * 2 + side)] = mask;
-            }
         for (bool flip : {false, true}) {
             bool ok = true;
             for (int m = 0; m < 256 && ok; ++m) ok = build_case(m, flip);

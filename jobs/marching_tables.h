@@ -21,16 +21,8 @@ struct MarchingTables {
     std::array<std::uint8_t, 256> triangle_count{};
     std::array<std::array<std::int8_t, kMaxTriangles * 3>, 256> triangles{};  // edge ids, 3 per triangle
     std::array<std::uint16_t, 256> edge_mask{};                               // bit e: edge e is crossed
-    // The crossed edges in the order the triangle list first names them (edge_count of them): a sweep
-    // that creates vertices in this order numbers them as one walking the triangles would.
-    std::array<std::array<std::int8_t, 12>, 256> edge_order{};
-    std::array<std::uint8_t, 256> edge_count{};
-    // Bit f (face f = 2 * axis + side): the case has inside and outside corners on face f.
-    std::array<std::uint8_t, 256> crossed_faces{};
-    std::array<std::array<std::uint8_t, 2>, 12> edge_corner{};  // low, high corner of edge e
+    std::array<std::array<std::uint8_t, 2>, 12> edge_corner{};                // low, high corner of edge e
     std::array<std::uint8_t, 12> edge_axis{};
-    // Corner mask of each face (face f = 2 * axis + side; side 1 is the +axis face).
-    std::array<std::uint8_t, 6> face_corners{};
 };
 
 // Built once on first use (thread-safe), then read-only.

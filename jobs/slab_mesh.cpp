@@ -33,8 +33,8 @@ bool create_slab_vertices(const SlabMesh& m, BlockSweepStats& st) {
             m.out.foreign[st.foreign++] = {key, id};
             return;
         }
-        auto on_plane = [n](std::uint32_t c) { return c == 0 || c == n; };
-        if ((axis != 0 && on_plane(i)) || (axis != 1 && on_plane(r)) || (axis != 2 && on_plane(t)))
+        // An owned vertex on a max plane (c == n) lies on the grid's outer face: no block shares it.
+        if ((axis != 0 && i == 0) || (axis != 1 && r == 0) || (axis != 2 && t == 0))
             m.out.border[st.border++] = {key, id};
     };
     // Edges of corner row r in slice t along `axis` that have no vertex yet among `want`; marks them.

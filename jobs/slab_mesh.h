@@ -32,7 +32,7 @@ struct SlabMesh {
     // of each such edge (SliceScratch::edges).
     std::uint64_t* made = nullptr;
     std::uint32_t* edges = nullptr;
-    const std::uint32_t* edge_offset = nullptr;  // 12: slot of each cube edge relative to the cube's
+    const std::uint32_t* edge_offset = nullptr;  // 12: slot of each cube edge relative to the cube's first
     BlockMeshOut out;
     std::uint32_t max_vertices = 0, max_triangles = 0;
 };

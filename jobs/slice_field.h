@@ -8,8 +8,14 @@
 // which falls monotonically from 0.25 at the centre to 0 at R_c. Inside the fluid is F >= iso.
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 
 namespace rivulet {
+
+// Limits SlicesSettings::validate enforces: the sweep's stack arrays hold a block edge of corners, and the
+// lookup cache packs a particle's covered columns into bytes and its reach box's first row into 16 bits.
+inline constexpr std::uint32_t kMaxBlockCubes = 128;
+inline constexpr std::int32_t kMaxReach = 128;  // R_c / voxel
 
 struct SliceKernel {
     float rc2 = 1;         // R_c^2
@@ -37,13 +43,16 @@ struct SliceGrid {
     // [floor((p - o) / voxel) - reach, floor((p - o) / voxel) + reach + 1].
     std::int32_t reach = 1;
 
+    // Throws std::invalid_argument outside [2, kMaxBlockCubes] (SlicesSettings::validate's range).
     void set_block_cubes(std::uint32_t cubes) {
+        if (cubes < 2 || cubes > kMaxBlockCubes)
+            throw std::invalid_argument("marching slices: block edge outside [2, 128] cubes");
         n = cubes;
         n_magic = ((std::uint64_t(1) << 32) + cubes - 1) / cubes;
     }
     // c / n for corner indices c < 2^21 by a multiply: ceil(2^32 / n) is exact there for n <= 128 (the
-    // error c (magic n - 2^32) / 2^32 stays below 1 / n); a 32-bit division by a runtime n costs more
-    // than the rest of the callers' work.
+    // error c (magic n - 2^32) / (n 2^32) < 2^21 n / (n 2^32) stays below 1 / n); a 32-bit division by a
+    // runtime n costs more than the rest of the callers' work.
     std::uint32_t block_of(std::uint32_t c) const { return static_cast<std::uint32_t>((c * n_magic) >> 32); }
 
     float cx(std::int32_t i) const { return ox + voxel * static_cast<float>(i); }

@@ -148,22 +148,6 @@ TEST(MarchingTables, EveryCaseIsAClosedConsistentPatch) {
             const bool a = (m >> t.edge_corner[e][0]) & 1, b = (m >> t.edge_corner[e][1]) & 1;
             EXPECT_EQ(a != b, ((t.edge_mask[m] >> e) & 1) != 0) << m << " edge " << e;
         }
-        // edge_order: every crossed edge once, in the order the triangle list first names it.
-        std::vector<int> first_named;
-        for (int i = 0; i < t.triangle_count[m] * 3; ++i)
-            if (std::find(first_named.begin(), first_named.end(), t.triangles[m][i]) == first_named.end())
-                first_named.push_back(t.triangles[m][i]);
-        ASSERT_EQ(int(t.edge_count[m]), int(first_named.size())) << m;
-        for (std::size_t i = 0; i < first_named.size(); ++i)
-            EXPECT_EQ(t.edge_order[m][i], first_named[i]) << m;
-        // crossed_faces: the faces holding both inside and outside corners.
-        for (int f = 0; f < 6; ++f) {
-            const int axis = f / 2, side = f & 1;
-            int inside = 0;
-            for (int c = 0; c < 8; ++c)
-                if (((c >> axis) & 1) == side) inside += (m >> c) & 1;
-            EXPECT_EQ(inside != 0 && inside != 4, ((t.crossed_faces[m] >> f) & 1) != 0) << m << " face " << f;
-        }
     }
 }
 
@@ -184,9 +168,9 @@ TEST(BlockBins, BlockOfIsExactDivision) {
     }
 }
 
-TEST(BlockBins, DefaultsListAParticleInAtMostEightBlocksInIndexOrder) {
+TEST(BlockBins, BlocksOfTwoReachPlusTwoListAParticleInAtMostEightBlocksInIndexOrder) {
     const Cloud c = blobs(4, 6, 200, 0.05f);
-    SlicesExtractor ex(settings_for(0.05f, 16), c.size());
+    SlicesExtractor ex(settings_for(0.05f, 16), c.size());  // reach 4: 16 >= 2 * 4 + 2
     ex.begin_frame(c.pos());
     EXPECT_LE(max_blocks_per_particle(ex.grid()), 8u);
     std::vector<std::uint32_t> per_particle(c.size());
@@ -208,6 +192,25 @@ TEST(BlockBins, DefaultsListAParticleInAtMostEightBlocksInIndexOrder) {
     for (std::uint32_t b = 0; b < ex.grid().blocks(); ++b)
         for (std::uint32_t e = offsets[b] + 1; e < offsets[b + 1]; ++e) EXPECT_LT(entries[e - 1], entries[e]);
     EXPECT_GE(total, c.size());
+}
+
+TEST(BlockBins, MaxBlocksPerParticleBoundsEveryParticleAndIsReachedBySmallBlocks) {
+    const Cloud c = blobs(7, 8, 300, 0.05f);
+    for (const std::uint32_t n : {5u, 9u, 10u, 16u, 40u}) {
+        SlicesExtractor ex(settings_for(0.05f, n), c.size());
+        ex.begin_frame(c.pos());
+        std::uint32_t most = 0;
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            const ParticleReach r = particle_reach(ex.grid(), c.x[i], c.y[i], c.z[i]);
+            std::uint32_t blocks = 1;
+            for (int a = 0; a < 3; ++a) blocks *= std::uint32_t(r.bhi[a] - r.blo[a] + 1);
+            most = std::max(most, blocks);
+        }
+        EXPECT_LE(most, max_blocks_per_particle(ex.grid())) << n;
+        if (n == 9) {
+            EXPECT_EQ(max_blocks_per_particle(ex.grid()), 27u);  // 2 reach + 1 = 9 corners apart
+        }
+    }
 }
 
 TEST(MarchingSlices, MatchesBruteForceOnRandomBlobs) {
@@ -277,18 +280,23 @@ TEST(MarchingSlices, ColumnAndSignEvaluationsMatchCornerEvaluation) {
         for (std::uint32_t j = 0; j <= n; ++j)
             for (std::uint32_t i = 0; i <= n; ++i) {
                 cache_column(view, n, i, j, 0, std::int32_t(n), pz.data(), f, column.data());
-                // Eight slices a pass (the AVX2 build's walks and face scans): the same bits.
+                // Eight slices a pass (the AVX2 build: walks, face scans, sweep runs): the same bits.
                 cache_column<8>(view, n, i, j, 0, std::int32_t(n), pz.data(), f, column8.data());
                 ASSERT_EQ(std::memcmp(column.data(), column8.data(), (n + 1) * sizeof(float)), 0) << b;
                 for (std::uint32_t k = 0; k <= n; ++k) {
                     const float want = cache_field(view, n, i, j, std::int32_t(k), pz[k], f);
                     ASSERT_EQ(std::memcmp(&want, &column[k], sizeof(float)), 0) << b << " " << i << " " << j;
-                    // The sweep's runs: up to four slices from any start.
-                    float run[4];
-                    const std::uint32_t to = std::min(k + 3, n);
+                    // The sweep's runs: up to four (baseline) or eight (AVX2) slices from any start.
+                    float run[4], run_up8[8];
+                    const std::uint32_t to = std::min(k + 3, n), to8 = std::min(k + 7, n);
                     cache_column(view, n, i, j, std::int32_t(k), std::int32_t(to), pz.data() + k, f, run);
+                    cache_column<8>(view, n, i, j, std::int32_t(k), std::int32_t(to8), pz.data() + k, f,
+                                    run_up8);
                     for (std::uint32_t t = k; t <= to; ++t)
                         ASSERT_EQ(std::memcmp(&run[t - k], &column[t], sizeof(float)), 0) << b << " " << t;
+                    for (std::uint32_t t = k; t <= to8; ++t)
+                        ASSERT_EQ(std::memcmp(&run_up8[t - k], &column[t], sizeof(float)), 0)
+                            << b << " " << t;
                     // The walks' runs of eight, downwards from slice k.
                     float run8[8];
                     const std::uint32_t from = k >= 7 ? k - 7 : 0;
@@ -566,7 +574,7 @@ TEST(MarchingSlices, SweepNeedsNoClearedScratch) {
     EXPECT_GT(swept, 3u);
 }
 
-// march_block runs an AVX2 build (eight slices per column pass in the walks and face scans) where the
+// march_block runs an AVX2 build (eight slices per column pass in the walks, face scans and sweep) where the
 // CPU has it: every block's mesh and seeds are the same bytes as the baseline build's.
 TEST(MarchingSlices, Avx2AndBaselineBuildsSweepTheSameBytes) {
     if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 on this CPU (or RIVULET_NO_AVX2 is set)";
@@ -632,6 +640,10 @@ TEST(MarchingSlices, RejectsBadSettingsAndInputs) {
     EXPECT_THROW(SlicesExtractor(s, 10), std::invalid_argument);
     s = settings_for(0.1f, 16, 1.0f);  // voxel coarser than 4 radii
     EXPECT_THROW(SlicesExtractor(s, 10), std::invalid_argument);
+    s = settings_for(0.1f, 16, 0.1f / 65);  // R_c = 130 voxels: beyond the lookup cache's reach limit
+    EXPECT_THROW(SlicesExtractor(s, 10), std::invalid_argument);
+    s = settings_for(0.1f, 16, 0.1f / 63);  // 126 voxels: allowed
+    EXPECT_NO_THROW(SlicesExtractor(s, 10));
 
     Cloud c;
     c.add(0, 0, 0);

@@ -63,10 +63,11 @@ SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max
     grid_.voxel = voxel_;
     grid_.rc = rc_;
     grid_.set_block_cubes(settings.block_cubes);
-    // A particle in cell c reaches corners within R_c, i.e. (in exact arithmetic) [c - floor(R), c +
-    // floor(R) + 1] for R = R_c / voxel; ceil(R) claims one corner more on each side whenever R is an
-    // integer, a whole voxel of margin against rounding of cells and distances (was ceil(R) + 1: every
-    // column lookup then scanned a fifth more entries, and blocks listed more particles).
+    // A particle in cell c reaches the corners within R_c, in exact arithmetic [c - ceil(R) + 1, c +
+    // ceil(R)] for R = R_c / voxel; the grid claims [c - reach, c + reach + 1] with reach = ceil(R), one
+    // corner more on each side, a whole voxel of margin against rounding of cells and distances (was
+    // ceil(R) + 1: every column lookup then scanned a fifth more entries, and blocks listed more
+    // particles).
     grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ / voxel_));
 }
 
@@ -242,8 +243,9 @@ void SlicesExtractor::block_scatter(ConstPositions p, std::uint32_t chunk) {
 std::uint32_t SlicesExtractor::owner_of(std::uint64_t key) const {
     std::uint32_t i = 0, j = 0, k = 0, axis = 0;
     edge_key_corner(key, i, j, k, axis);
-    const std::uint32_t oi = std::min(div_n(i), grid_.bx - 1), oj = std::min(div_n(j), grid_.by - 1),
-                        ok = std::min(div_n(k), grid_.bz - 1);
+    const std::uint32_t oi = std::min(grid_.block_of(i), grid_.bx - 1),
+                        oj = std::min(grid_.block_of(j), grid_.by - 1),
+                        ok = std::min(grid_.block_of(k), grid_.bz - 1);
     return (ok * grid_.by + oj) * grid_.bx + oi;
 }
 
@@ -285,10 +287,10 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     // +axis side.
     unsigned empty_neighbours = 0;
     SharedFaces shared{};
-    const std::size_t face_words = SliceScratchSizes(grid_.n).face_bits;
+    const std::size_t face_size = SliceScratchSizes(grid_.n).face_bits;  // words of one face
     auto shared_face = [&](std::uint32_t plus_side_item, std::uint32_t a) {
         const std::size_t at = std::size_t(plus_side_item) * 3 + a;
-        return SharedFace{face_state_.data() + at, face_bits_.data() + at * face_words};
+        return SharedFace{face_state_.data() + at, face_bits_.data() + at * face_size};
     };
     const std::uint32_t bidx[3] = {bi, bj, bk}, nb[3] = {grid_.bx, grid_.by, grid_.bz},
                         stride[3] = {1, grid_.bx, grid_.bx * grid_.by};
@@ -389,8 +391,7 @@ void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
 void SlicesExtractor::normals_block(std::uint32_t item) {
     BlockSlot& s = slots_[item];
     const std::size_t foreign_from = std::size_t(s.capacity - s.foreign_n) * 4;
-    // Vertex 0 too: padding triangles of the normals kernel name it (and add +0).
-    std::fill(s.acc.data(), s.acc.data() + std::size_t(std::max(s.owned, 1u)) * 4, 0.0f);
+    std::fill(s.acc.data(), s.acc.data() + std::size_t(s.owned) * 4, 0.0f);
     std::fill(s.acc.data() + foreign_from, s.acc.data() + std::size_t(s.capacity) * 4, 0.0f);
     accumulate_angle_normals(s.positions.span(std::size_t(s.capacity) * 4),
                              s.triangles.span(std::size_t(s.triangles_n) * 3),

@@ -113,7 +113,6 @@ class SlicesExtractor {
     // needs more than any before).
     void grow_scratch(std::uint32_t particles, std::uint32_t cache_entries);
     std::uint32_t owner_of(std::uint64_t key) const;
-    std::uint32_t div_n(std::uint32_t c) const { return grid_.block_of(c); }
 
     SlicesSettings settings_;
     std::size_t max_particles_;

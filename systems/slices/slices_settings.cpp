@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <cmath>
 
+#include "jobs/slice_field.h"
+
 namespace rivulet {
 
 double calibrated_iso(double rc_factor) {
@@ -39,10 +41,15 @@ std::string SlicesSettings::validate() const {
         return fmt::format(
             "--voxel {} is coarser than 4 particle radii ({}): the surface would lose particles",
             voxel_size(), 4 * radius);
-    if (block_cubes < 2 || block_cubes > 128)
-        return fmt::format("--block must be in [2, 128] cubes, got {}", block_cubes);
+    if (block_cubes < 2 || block_cubes > kMaxBlockCubes)
+        return fmt::format("--block must be in [2, {}] cubes, got {}", kMaxBlockCubes, block_cubes);
     if (!(rc_factor >= 1.0f && rc_factor <= 8.0f))
         return fmt::format("R_c factor must be in [1, 8], got {}", rc_factor);
+    // The lookup cache packs a particle's reach box into 16-bit rows (and a finer voxel is absurd: a
+    // particle would touch millions of corners).
+    if (rc() / voxel_size() > float(kMaxReach))
+        return fmt::format("--voxel {} is finer than R_c / {} ({}): a particle would reach too many corners",
+                           voxel_size(), kMaxReach, rc() / float(kMaxReach));
     if (!std::isfinite(iso) || iso < 0) return fmt::format("iso threshold must be positive, got {}", iso);
     if (iso >= 0.25f * 64) return fmt::format("iso threshold {} is unreachable by the field", iso);
     if (max_blocks == 0 || max_triangles == 0 || max_grid_cubes == 0)
