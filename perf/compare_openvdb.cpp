@@ -1,8 +1,13 @@
 // Marching slices against OpenVDB on the same particles (issue 3's figure): OpenVDB rasterises every
 // particle as a sphere of the particle radius into a narrow-band level set (tools::ParticlesToLevelSet)
-// and meshes its zero crossing (tools::volumeToMesh), at the same voxel size. Prints ms (median of
-// --repeat) and triangles for both at each thread count, the speedup, and the distance between the two
-// surfaces both ways (each mesh's vertices sampled in the other's signed distance field).
+// and meshes its zero crossing (tools::volumeToMesh), at the same voxel size. Prints ms and triangles for
+// both at each thread count, the speedup, and the distance between the two surfaces both ways (each mesh's
+// vertices sampled in the other's signed distance field).
+//
+// Timing: --repeat alternations of one OpenVDB run and one of ours (the median of kOurRuns runs of the
+// slices frame graph, as `rivulet mesh --repeat`), medians of each side over the alternations. Both sides
+// so sample the same stretch of time: on a shared machine a burst of load from elsewhere lasting a few
+// hundred milliseconds otherwise lands wholly on the short side's block of runs.
 //
 //   build/perf/compare_openvdb --sizes 25000,125000,1000000 --threads 1,2 [--splash frame.ply]
 #include <openvdb/openvdb.h>
@@ -117,11 +122,13 @@ int main(int argc, char** argv) {
     std::string sizes = "25000,125000,1000000", threads = "1,2", splash, json_out;
     float radius = 0.01f;
     int repeat = 5;
+    constexpr int kOurRuns = 5;
     std::uint32_t block = rivulet::SlicesSettings{}.block_cubes;
     app.add_option("--sizes", sizes, "Dam-break block particle counts")->capture_default_str();
     app.add_option("--threads", threads, "Thread counts")->capture_default_str();
     app.add_option("--radius", radius, "Particle radius (voxel = radius / 2)")->capture_default_str();
-    app.add_option("--repeat", repeat, "Runs per case; medians")->capture_default_str();
+    app.add_option("--repeat", repeat, "Alternations per case (one OpenVDB run, 5 of ours); medians")
+        ->capture_default_str();
     app.add_option("--splash", splash, "A splashing frame (PLY) to compare as well");
     app.add_option("--block", block, "Marching slices: cubes per block edge")->capture_default_str();
     app.add_option("--json", json_out, "Write the table as JSON");
@@ -146,15 +153,18 @@ int main(int argc, char** argv) {
             MeshRequest req;
             req.method = "slices";
             req.radius = radius;
-            req.repeat = repeat;
+            req.repeat = kOurRuns;
             req.slices.block_cubes = block;
-            const MeshResult ours = extract_mesh(cloud, req);
-            std::vector<double> vdb_ms;
+            MeshResult ours;
+            std::vector<double> our_ms, vdb_ms;
             VdbResult vdb;
             for (int k = 0; k < repeat; ++k) {
+                ours = extract_mesh(cloud, req);
+                our_ms.push_back(ours.total_ms);
                 vdb = openvdb_mesh(cloud, radius, ours.voxel);
                 vdb_ms.push_back(vdb.ms);
             }
+            ours.total_ms = median(our_ms);
             const double vdb_median = median(vdb_ms);
             // Our vertices in OpenVDB's distance field; OpenVDB's vertices in our mesh's distance field.
             std::vector<openvdb::Vec3s> our_points;
