@@ -56,6 +56,8 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     std::fill(range_hi, range_hi + n, std::int32_t(-1));
     std::int32_t lowest = static_cast<std::int32_t>(n);  // lowest slab that may hold work
     const Row cube_row = low_bits<W>(n);
+    // Row r of rows of W words from base.
+    auto row = [](const std::uint64_t* base, std::size_t r) { return load_row<W>(base + r * W); };
     // Queues the cubes `bits` of slab k, row j that were never queued.
     auto queue_row = [&](std::uint32_t k, std::uint32_t j, Row bits) {
         std::uint64_t* const seen_at = seen + (std::size_t(k) * n + j) * W;
@@ -169,14 +171,13 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     }
     for (int a = 0; a < 3; ++a)
         near_lo[a] = std::max(near_lo[a], 0), near_hi[a] = std::min(near_hi[a], std::int32_t(n));
-    // Face (a, side) as bit rows: bit u of row w is set where F >= iso (u, w the next two axes after a),
-    // `words` 64-bit words per row plus a zero word, so a row shifted by one bit reads its neighbour.
-    const std::uint32_t words = (n1 + 63) / 64, stride = words + 1;
+    // Face (a, side) as bit rows of W words: bit u of row w is set where F >= iso (u, w the next two axes
+    // after a).
     auto fill_face = [&](std::uint32_t a, std::uint32_t side, std::uint64_t* bits) {
-        auto set_bit = [bits, stride](std::uint32_t row, std::uint32_t bit) {
-            bits[row * stride + bit / 64] |= std::uint64_t(1) << (bit % 64);
+        auto set_bit = [bits](std::uint32_t r, std::uint32_t bit) {
+            bits[r * W + bit / 64] |= std::uint64_t(1) << (bit % 64);
         };
-        std::fill(bits, bits + std::size_t(n1) * stride, std::uint64_t(0));
+        std::fill(bits, bits + std::size_t(n1) * W, std::uint64_t(0));
         const std::uint32_t plane = side * n;
         if (a == 2) {
             for (std::int32_t j = near_lo[1]; j <= near_hi[1]; ++j)
@@ -231,15 +232,8 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
             // A face cell is crossed when its four corners (bits u, u + 1 of rows w, w + 1) differ; u, w are
             // the next two axes after a.
             for (std::uint32_t cw = 0; cw < n; ++cw) {
-                const std::uint64_t* r0 = bits + cw * stride;
-                const std::uint64_t* r1 = r0 + stride;
-                Row crossed;
-                for (std::uint32_t t = 0; t < W; ++t) {
-                    const std::uint64_t a0 = r0[t], a1 = r0[t] >> 1 | r0[t + 1] << 63;
-                    const std::uint64_t b0 = r1[t], b1 = r1[t] >> 1 | r1[t + 1] << 63;
-                    crossed.w[t] = (a0 | a1 | b0 | b1) & ~(a0 & a1 & b0 & b1);
-                }
-                crossed = crossed & cube_row;  // cells u < n only
+                const Row r0 = row(bits, cw), r1 = row(bits, cw + 1);
+                const Row crossed = mixed(r0, shr1(r0), r1, shr1(r1)) & cube_row;  // cells u < n only
                 st.seeds += popcount(crossed);
                 const std::uint32_t edge_cube = side ? n - 1 : 0;
                 if (a == 2) {  // u = x, w = y: a row of cubes
@@ -326,7 +320,6 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     std::uint64_t* const frontier = s.work_rows.data();
     std::uint64_t* const visit = frontier + std::size_t(n) * W;
     std::fill(visit, visit + std::size_t(n) * W, std::uint64_t(0));
-    auto row = [](const std::uint64_t* base, std::size_t r) { return load_row<W>(base + r * W); };
     const std::int32_t top = static_cast<std::int32_t>(n);
     for (;;) {
         while (lowest < top && range_lo[lowest] > range_hi[lowest]) ++lowest;

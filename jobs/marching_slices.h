@@ -49,7 +49,7 @@ constexpr std::uint32_t row_words(std::uint32_t n) {
 // blocks, nothing in it needs clearing between them.
 struct SliceScratch {
     std::span<float> slices;                   // (n+1) * (n+1)^2: slice cache pool (corner values)
-    std::span<std::uint64_t> face_bits;        // (n+1) * (W+1): one block face at a time
+    std::span<std::uint64_t> face_bits;        // (n+1) W: one block face at a time
     std::span<std::uint64_t> slice_rows;       // 2 (n+1)^2 W: per slice, rows of corners computed and inside
     std::span<std::uint64_t> slab_rows;        // 2 n^2 W: per slab, rows of cubes queued and ever queued
     std::span<std::uint64_t> edge_rows;        // 3 (n+1)^2 W: per slice and axis, rows of edges with a vertex
@@ -88,7 +88,7 @@ struct SliceScratchSizes {
     std::size_t slices, face_bits, slice_rows, slab_rows, edge_rows, work_rows, slab_range, edges, columns;
     explicit SliceScratchSizes(std::uint32_t n)
         : slices(std::size_t(n + 1) * (n + 1) * (n + 1)),
-          face_bits(std::size_t(n + 1) * ((n + 1 + 63) / 64 + 1)),  // a zero word closes each row
+          face_bits(std::size_t(n + 1) * row_words(n)),
           slice_rows(2 * std::size_t(n + 1) * (n + 1) * row_words(n)),
           slab_rows(2 * std::size_t(n) * n * row_words(n)),
           edge_rows(3 * std::size_t(n + 1) * (n + 1) * row_words(n)),

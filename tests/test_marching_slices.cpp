@@ -543,7 +543,7 @@ Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, con
 
 // Face cells whose four corners (bit rows as SliceScratch::face_bits) are not all alike.
 std::uint64_t crossed_face_cells(const std::vector<std::uint64_t>& bits, std::uint32_t n) {
-    const std::uint32_t stride = (n + 1 + 63) / 64 + 1;
+    const std::uint32_t stride = row_words(n);
     auto at = [&](std::uint32_t u, std::uint32_t w) { return (bits[w * stride + u / 64] >> (u % 64)) & 1u; };
     std::uint64_t crossed = 0;
     for (std::uint32_t w = 0; w < n; ++w)
