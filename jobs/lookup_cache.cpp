@@ -38,12 +38,14 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     // per particle (SliceGrid::cell divides).
     const std::int32_t mid_base = -g.reach - 2;
     const std::uint32_t slots = static_cast<std::uint32_t>(s.counts.size());
+    auto sort_slot = [&](std::int32_t mid) {
+        return static_cast<std::uint32_t>(
+            std::clamp<std::int32_t>(mid - mid_base, 0, std::int32_t(slots) - 1));
+    };
     std::fill(s.counts.begin(), s.counts.end(), 0u);
     for (std::uint32_t q = 0; q < np; ++q) {
-        const std::int32_t mid = SliceGrid::cell(p.z[q], g.oz, g.voxel) - k0;
-        s.mids[q] = mid;
-        ++s.counts[static_cast<std::uint32_t>(
-            std::clamp<std::int32_t>(mid - mid_base, 0, std::int32_t(slots) - 1))];
+        s.mids[q] = SliceGrid::cell(p.z[q], g.oz, g.voxel) - k0;
+        ++s.counts[sort_slot(s.mids[q])];
     }
     std::uint32_t run = 0;
     for (auto& c : s.counts) {
@@ -51,9 +53,7 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
         c = run;
         run += k;
     }
-    for (std::uint32_t q = 0; q < np; ++q)
-        s.order[s.counts[static_cast<std::uint32_t>(
-            std::clamp<std::int32_t>(s.mids[q] - mid_base, 0, std::int32_t(slots) - 1))]++] = q;
+    for (std::uint32_t q = 0; q < np; ++q) s.order[s.counts[sort_slot(s.mids[q])]++] = q;
 
     // Pass 1: per particle (in sorted order) and row of its reach box, the run of columns within R_c
     // (row_runs rows from the box's first row, which follows them in `rows`; a row is one interval:

@@ -39,16 +39,18 @@ template <int L>
 RIVULET_INLINE void weld_body(std::span<const std::uint32_t> local, const BlockVertexMap& map,
                               std::span<std::uint32_t> out) {
     using I = typename VectorLanes<L>::i;
+    using U = typename VectorLanes<L>::u;
     const std::size_t count = local.size();
-    // Vertex numbers stay below 2^31 (a block holds far fewer), so signed lanes compare them correctly.
-    const I owned = I{} + static_cast<std::int32_t>(map.owned),
-            offset = I{} + static_cast<std::int32_t>(map.offset);
+    // Block vertex numbers stay below 2^31 (a block holds far fewer), so signed lanes compare them
+    // correctly; mesh indices may not, so the offset is added to unsigned lanes.
+    const I owned = I{} + static_cast<std::int32_t>(map.owned);
+    const U offset = U{} + map.offset;
     std::size_t t = 0;
     for (; t + L <= count; t += L) {
         I v;
         std::memcpy(&v, local.data() + t, sizeof v);
         if (!any_lane(v >= owned)) {
-            const I w = v + offset;
+            const U w = reinterpret_cast<U>(v) + offset;
             std::memcpy(out.data() + t, &w, sizeof w);
             continue;
         }

@@ -71,4 +71,14 @@ TEST(WeldIndices, AForeignCornerAtAnyPositionOfAVectorIsLookedUp) {
     }
 }
 
+TEST(WeldIndices, MeshIndicesAbove2To31AreShiftedExactly) {
+    Block b = random_block(9, 400, 20, 257, 0.05);
+    b.map.offset = 3'000'000'000u;  // a mesh past 2^31 vertices: the shifted indices do not fit int32
+    std::vector<std::uint32_t> got(b.local.size()), base(b.local.size());
+    weld_indices(b.local, b.map, got);
+    weld_indices_baseline(b.local, b.map, base);
+    EXPECT_EQ(got, expected(b));
+    EXPECT_EQ(base, expected(b));
+}
+
 }  // namespace
