@@ -77,44 +77,55 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         queue_row(std::uint32_t(k), std::uint32_t(j), single_bit<W>(std::uint32_t(i)));
     };
 
-    // ---- seeds 1: walk down from each particle's nearest corner ----
+    // ---- seeds 1: walk from each particle's nearest corner to the surface ----
+    // The walk goes down (as in the thesis) or up, towards the nearer of the block's bottom and top faces:
+    // either finds the crossing that bounds the particle's inside region, or leaves the block through a
+    // face whose scan (seeds 2) finds that region's surface; walks in deep fluid are half as long.
     std::fill(s.walk_lo.begin(), s.walk_lo.end(), 0);
     std::fill(s.walk_hi.begin(), s.walk_hi.end(), -1);
-    // Walks down from local corner (li, lj, lk) (clamped to the top slice); false when that corner is
-    // outside the block's columns or outside the fluid.
+    // Walks from local corner (li, lj, lk) (clamped to the top slice); false when that corner is outside
+    // the block's columns or outside the fluid. Per column, walk_lo/hi hold a run of corners walked through
+    // (all inside, and their walk's end known): a walk that starts in it or reaches it is done.
     auto walk = [&](std::int32_t li, std::int32_t lj, std::int32_t lk) {
         if (li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n)) return false;
         lk = std::min(lk, std::int32_t(n));
         const std::uint32_t col = static_cast<std::uint32_t>(lj) * n1 + static_cast<std::uint32_t>(li);
         std::int32_t& run_lo = s.walk_lo[col];
         std::int32_t& run_hi = s.walk_hi[col];
-        if (lk >= run_lo && lk <= run_hi) return true;  // inside a run already walked
+        auto in_run = [&](std::int32_t k) { return k >= run_lo && k <= run_hi; };
+        if (in_run(lk)) return true;
         const auto ui = static_cast<std::uint32_t>(li), uj = static_cast<std::uint32_t>(lj);
-        // Corner values RunLanes slices at a time downwards (one pass over the column's entries each).
+        const bool up = 2 * lk > std::int32_t(n);
+        const std::int32_t step = up ? 1 : -1;
+        // Corner values RunLanes slices at a time in the walk's direction (one pass over the column's
+        // entries each).
         float run[RunLanes];
         std::int32_t run_top = -1, run_bottom = 0;
         auto inside_at = [&](std::int32_t k) {
             if (k > run_top || k < run_bottom) {
-                run_top = k, run_bottom = std::max(0, k - (RunLanes - 1));
+                if (up)
+                    run_bottom = k, run_top = std::min(std::int32_t(n), k + (RunLanes - 1));
+                else
+                    run_top = k, run_bottom = std::max(0, k - (RunLanes - 1));
                 cache_column<RunLanes>(cache, n, ui, uj, run_bottom, run_top, column_z.data() + run_bottom, f,
                                        run);
             }
             return run[k - run_bottom] >= iso;
         };
         if (!inside_at(lk)) return false;
-        std::int32_t k = lk - 1;
-        for (; k >= 0; --k) {
-            if (k >= run_lo && k <= run_hi) break;
-            if (!inside_at(k)) break;
-        }
-        if (k >= 0 && k >= run_lo && k <= run_hi) {  // joined the known run: same crossing below
-            run_hi = std::max(run_hi, lk);
+        std::int32_t k = lk + step;
+        for (; k >= 0 && k <= std::int32_t(n); k += step)
+            if (in_run(k) || !inside_at(k)) break;
+        const bool left = k < 0 || k > std::int32_t(n);  // through a face: its scan covers the region
+        if (!left && in_run(k)) {                        // joined the known run: the same end
+            run_lo = std::min(run_lo, lk), run_hi = std::max(run_hi, lk);
             return true;
         }
-        run_lo = k + 1, run_hi = lk;
-        if (k < 0) return true;  // left through the block bottom: the face scan covers it
+        run_lo = std::min(lk, k - step), run_hi = std::max(lk, k - step);
+        if (left) return true;
+        const std::int32_t slab = up ? k - 1 : k;  // the crossed edge runs from slice slab to slab + 1
         for (std::int32_t dj = -1; dj <= 0; ++dj)
-            for (std::int32_t di = -1; di <= 0; ++di) push(li + di, lj + dj, k);
+            for (std::int32_t di = -1; di <= 0; ++di) push(li + di, lj + dj, slab);
         ++st.seeds;
         return true;
     };

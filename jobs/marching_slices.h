@@ -11,12 +11,13 @@
 // the surface lead back down).
 //
 // Seeds, all found before the sweep:
-//  1. the O(P) heuristic: from the corner nearest each particle's centre, walk down the column to the
-//     first outside corner; the cubes around that crossing are seeds (a per-column memo of the inside
-//     run already walked keeps this linear). Particles above the block start at its top slice. When the
+//  1. the O(P) heuristic: from the corner nearest each particle's centre, walk along the column to the
+//     first outside corner, down from the block's lower half and up from its upper half (the nearer
+//     face); the cubes around that crossing are seeds (a per-column memo of the inside run already
+//     walked keeps this linear). Particles above the block start at its top slice. When the
 //     nearest corner is outside the fluid (coarse voxels, thin parts), the walk starts from the first
 //     inside corner of the cube holding the centre instead.
-//  2. completeness: the heuristic finds a piece of surface below each particle, but not every piece that
+//  2. completeness: the heuristic finds a piece of surface near each particle, but not every piece that
 //     lies in this block (e.g. the top of a body whose bottom is in a lower block, or a piece the walk
 //     never meets); so every face of the block that can carry surface (not on the grid's outer
 //     boundary) is scanned and every face cell the surface crosses seeds its cube. With (1) this finds

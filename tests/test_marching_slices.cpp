@@ -380,6 +380,27 @@ TEST(MarchingSlices, FindsSurfaceTheWalkCannotReach) {
     EXPECT_LT(e.stats.peak_slices, e.grid.n + 1) << "caches released as the sweep passes";
 }
 
+TEST(MarchingSlices, WalksUpInTheUpperHalfOfABlockAndDownInTheLower) {
+    // One block (n = 64): no face seeds, so the walks carry everything. Droplets of a few particles at
+    // heights over the whole block; a walk heads for the nearer of the block's bottom and top faces, so
+    // the upper ones are found walking up, from the droplet's top, and the lower ones walking down.
+    Cloud c;
+    for (int d = 0; d < 18; ++d) {
+        const float x = 0.5f * float(d % 4), y = 0.5f * float(d / 4 % 4), z = 0.13f * float(d);
+        c.add(x, y, z);
+        if (d % 2) c.add(x + 0.08f, y, z + 0.05f), c.add(x, y + 0.07f, z - 0.04f);
+    }
+    const SlicesSettings s = settings_for(0.1f, 64);
+    const Extracted e = extract(c, s);
+    ASSERT_EQ(e.grid.blocks(), 1u);
+    int upper = 0;
+    for (float z : c.z) upper += SliceGrid::cell(z, e.grid.oz, e.grid.voxel) * 2 > std::int32_t(e.grid.n);
+    EXPECT_GE(upper, 10) << "some droplets lie in the upper half";
+    EXPECT_LT(upper, 27) << "and some in the lower";
+    EXPECT_GE(e.stats.seeds, 18u) << "every droplet seeded by a walk";
+    expect_matches_reference(c, s);
+}
+
 TEST(MarchingSlices, FindsSmallComponentsOnCoarseGrids) {
     // Lone particles and close pairs with voxels of 1.5 and 2 radii: a component may hold a single
     // corner, and for a pair it need not be the corner nearest either centre.
