@@ -10,7 +10,7 @@ ParticleReach particle_reach(const SliceGrid& g, float x, float y, float z) {
     const std::uint32_t nb[3] = {g.bx, g.by, g.bz};
     const std::int32_t n = static_cast<std::int32_t>(g.n);
     for (int a = 0; a < 3; ++a) {
-        const std::int32_t c = SliceGrid::cell(p[a], o[a], g.voxel);
+        const std::int32_t c = SliceGrid::cell(p[a], o[a], g.inv_voxel);
         r.lo[a] = c - g.reach;
         r.hi[a] = c + g.reach + 1;
         // Block b holds corners [b n, b n + n]: it is touched when b n <= hi and b n + n >= lo.

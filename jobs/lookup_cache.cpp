@@ -35,7 +35,7 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
         axis_x[std::size_t(i)] = g.cx(i0 + i), axis_y[std::size_t(i)] = g.cy(j0 + i);
 
     // Counting sort of the particles by mid_z (stable: ascending index within a slab); mid_z computed once
-    // per particle (SliceGrid::cell divides).
+    // per particle.
     const std::int32_t mid_base = -g.reach - 2;
     const std::uint32_t slots = static_cast<std::uint32_t>(s.counts.size());
     auto sort_slot = [&](std::int32_t mid) {
@@ -44,7 +44,7 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     };
     std::fill(s.counts.begin(), s.counts.end(), 0u);
     for (std::uint32_t q = 0; q < np; ++q) {
-        s.mids[q] = SliceGrid::cell(p.z[q], g.oz, g.voxel) - k0;
+        s.mids[q] = SliceGrid::cell(p.z[q], g.oz, g.inv_voxel) - k0;
         ++s.counts[sort_slot(s.mids[q])];
     }
     std::uint32_t run = 0;
@@ -71,8 +71,8 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
         std::uint16_t* rows = s.rows.data() + std::size_t(o) * row_slots;
         std::fill(rows, rows + row_runs, kEmptyRow);
         if (!cz_listed(s.mids[q])) continue;  // reaches no slice of the block
-        const std::int32_t cx = SliceGrid::cell(x, g.ox, g.voxel) - i0,
-                           by = SliceGrid::cell(y, g.oy, g.voxel) - j0 - g.reach;
+        const std::int32_t cx = SliceGrid::cell(x, g.ox, g.inv_voxel) - i0,
+                           by = SliceGrid::cell(y, g.oy, g.inv_voxel) - j0 - g.reach;
         rows[row_runs] = static_cast<std::uint16_t>(by);
         const std::int32_t ilo = std::max(0, cx - g.reach), ihi = std::min(n, cx + g.reach + 1);
         const std::int32_t jlo = std::max(0, by), jhi = std::min(n, by + 2 * g.reach + 1);

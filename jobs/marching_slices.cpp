@@ -132,16 +132,16 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     const float half = 0.5f * g.voxel;
     for (std::size_t q = 0; q < particles.size(); ++q) {
         const float x = particles.x[q], y = particles.y[q], z = particles.z[q];
-        const std::int32_t li = SliceGrid::cell(x + half, g.ox, g.voxel) - i0,
-                           lj = SliceGrid::cell(y + half, g.oy, g.voxel) - j0,
-                           lk = SliceGrid::cell(z + half, g.oz, g.voxel) - k0;
+        const std::int32_t li = SliceGrid::cell(x + half, g.ox, g.inv_voxel) - i0,
+                           lj = SliceGrid::cell(y + half, g.oy, g.inv_voxel) - j0,
+                           lk = SliceGrid::cell(z + half, g.oz, g.inv_voxel) - k0;
         if (walk(li, lj, lk)) continue;
         if (li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n)) continue;
         // The nearest corner is outside the fluid (a coarse voxel, a thin part): try the other corners
         // of the cube holding the centre.
-        const std::int32_t ci = SliceGrid::cell(x, g.ox, g.voxel) - i0,
-                           cj = SliceGrid::cell(y, g.oy, g.voxel) - j0,
-                           ck = SliceGrid::cell(z, g.oz, g.voxel) - k0;
+        const std::int32_t ci = SliceGrid::cell(x, g.ox, g.inv_voxel) - i0,
+                           cj = SliceGrid::cell(y, g.oy, g.inv_voxel) - j0,
+                           ck = SliceGrid::cell(z, g.oz, g.inv_voxel) - k0;
         for (std::int32_t c = 0; c < 8; ++c)
             if (walk(ci + (c & 1), cj + ((c >> 1) & 1), ck + ((c >> 2) & 1))) break;
     }
@@ -176,8 +176,8 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
         const std::int32_t block_origin[3] = {i0, j0, k0};
         for (int a = 0; a < 3; ++a) {
             const auto [lo, hi] = std::minmax_element(axes[a].begin(), axes[a].end());
-            near_lo[a] = SliceGrid::cell(*lo, origin[a], g.voxel) - block_origin[a] - g.reach;
-            near_hi[a] = SliceGrid::cell(*hi, origin[a], g.voxel) - block_origin[a] + g.reach + 1;
+            near_lo[a] = SliceGrid::cell(*lo, origin[a], g.inv_voxel) - block_origin[a] - g.reach;
+            near_hi[a] = SliceGrid::cell(*hi, origin[a], g.inv_voxel) - block_origin[a] + g.reach + 1;
         }
     }
     for (int a = 0; a < 3; ++a)

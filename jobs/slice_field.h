@@ -34,7 +34,8 @@ struct SliceKernel {
 // the same way everywhere so corners on a block border get identical positions in both blocks.
 struct SliceGrid {
     float ox = 0, oy = 0, oz = 0;  // corner (0, 0, 0)
-    float voxel = 1;
+    float voxel = 1;               // set both with set_voxel
+    float inv_voxel = 1;           // 1 / voxel, for cell()
     float rc = 1;
     std::uint32_t n = 16;                            // cubes per block edge (set with set_block_cubes)
     std::uint64_t n_magic = std::uint64_t(1) << 28;  // ceil(2^32 / n)
@@ -43,6 +44,10 @@ struct SliceGrid {
     // [floor((p - o) / voxel) - reach, floor((p - o) / voxel) + reach + 1].
     std::int32_t reach = 1;
 
+    void set_voxel(float v) {
+        voxel = v;
+        inv_voxel = 1.0f / v;
+    }
     // Throws std::invalid_argument outside [2, kMaxBlockCubes] (SlicesSettings::validate's range).
     void set_block_cubes(std::uint32_t cubes) {
         if (cubes < 2 || cubes > kMaxBlockCubes)
@@ -62,12 +67,16 @@ struct SliceGrid {
     std::uint32_t corners_x() const { return bx * n + 1; }
     std::uint32_t corners_y() const { return by * n + 1; }
     std::uint32_t corners_z() const { return bz * n + 1; }
-    // The cube (slab) index of coordinate p along one axis.
-    // floor() by truncation and a correction: the same integer as std::floor for |t| < 2^31, without
-    // the library call (x86-64 baseline has no SSE4.1 round instruction); cells are computed several
-    // times per particle and block.
-    static std::int32_t cell(float p, float o, float voxel) {
-        const float t = (p - o) / voxel;
+    // The cube (slab) index of coordinate p along one axis: floor((p - o) / voxel), with the quotient as
+    // a product by 1 / voxel (a division costs several times a multiply, and cells are computed several
+    // times per particle and block). That can round a coordinate within an ulp of a corner plane into the
+    // cube on the plane's other side, which moves nothing that matters: every user of cells allows a
+    // corner of margin for rounding (the reach, the grid's padding), and all of them, the test oracle's
+    // summation order included, call this one function. floor() by truncation and a correction: the same
+    // integer as std::floor for |t| < 2^31, without the library call (x86-64 baseline has no SSE4.1 round
+    // instruction).
+    static std::int32_t cell(float p, float o, float inv_voxel) {
+        const float t = (p - o) * inv_voxel;
         const auto i = static_cast<std::int32_t>(t);
         return i - (static_cast<float>(i) > t ? 1 : 0);
     }

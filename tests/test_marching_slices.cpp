@@ -394,7 +394,7 @@ TEST(MarchingSlices, WalksUpInTheUpperHalfOfABlockAndDownInTheLower) {
     const Extracted e = extract(c, s);
     ASSERT_EQ(e.grid.blocks(), 1u);
     int upper = 0;
-    for (float z : c.z) upper += SliceGrid::cell(z, e.grid.oz, e.grid.voxel) * 2 > std::int32_t(e.grid.n);
+    for (float z : c.z) upper += SliceGrid::cell(z, e.grid.oz, e.grid.inv_voxel) * 2 > std::int32_t(e.grid.n);
     EXPECT_GE(upper, 10) << "some droplets lie in the upper half";
     EXPECT_LT(upper, 27) << "and some in the lower";
     EXPECT_GE(e.stats.seeds, 18u) << "every droplet seeded by a walk";

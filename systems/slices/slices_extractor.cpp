@@ -60,7 +60,7 @@ SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max
     rc_ = settings.rc();
     iso_ = settings.iso_value();
     voxel_ = settings.voxel_size();
-    grid_.voxel = voxel_;
+    grid_.set_voxel(voxel_);
     grid_.rc = rc_;
     grid_.set_block_cubes(settings.block_cubes);
     // A particle in cell c reaches the corners within R_c, in exact arithmetic [c - ceil(R) + 1, c +

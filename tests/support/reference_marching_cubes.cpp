@@ -16,7 +16,7 @@ ReferenceMesh reference_marching_cubes(const SliceGrid& g, float iso, ConstPosit
     std::vector<std::uint32_t> order(p.size());
     std::iota(order.begin(), order.end(), 0u);
     std::vector<std::int32_t> mid(p.size());
-    for (std::size_t i = 0; i < p.size(); ++i) mid[i] = SliceGrid::cell(p.z[i], g.oz, g.voxel);
+    for (std::size_t i = 0; i < p.size(); ++i) mid[i] = SliceGrid::cell(p.z[i], g.oz, g.inv_voxel);
     std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return mid[a] < mid[b]; });
 
     // A particle adds exactly +0 beyond R_c; skipping those farther than twice R_c in z (plus a slab for
