@@ -168,6 +168,35 @@ TEST(BlockBins, BlockOfIsExactDivision) {
     }
 }
 
+// SliceGrid::cell multiplies by 1 / voxel, so a coordinate within an ulp of a corner plane may fall in the
+// cube on the other side; the reach's corner of margin must still hold every corner the kernel can see
+// (float r^2 < R_c^2, here with the x and y terms zero: the widest reach along one axis).
+TEST(BlockBins, CellsByAMultiplyStayWithinOneOfFloorAndTheReachHoldsEveryCornerInRc) {
+    for (const float voxel : {0.05f, 0.037f, 0.1f / 3.0f, 0.002862f})
+        for (const float rc_voxels : {4.0f, 3.3f, 2.0f}) {
+            SliceGrid g;
+            g.set_voxel(voxel);
+            g.rc = rc_voxels * voxel;
+            g.reach = static_cast<std::int32_t>(std::ceil(g.rc / voxel));
+            g.oz = -1.234f;
+            const SliceKernel f = SliceKernel::from_rc(g.rc);
+            for (std::int32_t m = 0; m < 400; ++m)
+                for (int ulps = -3; ulps <= 3; ++ulps) {
+                    float p = g.cz(m);
+                    for (int u = 0; u < std::abs(ulps); ++u) p = std::nextafter(p, ulps > 0 ? 1e30f : -1e30f);
+                    const std::int32_t c = SliceGrid::cell(p, g.oz, g.inv_voxel);
+                    const double exact = std::floor((double(p) - double(g.oz)) / double(voxel));
+                    ASSERT_LE(std::abs(double(c) - exact), 1.0) << p;
+                    for (std::int32_t q = c - g.reach - 4; q <= c + g.reach + 5; ++q) {
+                        const float dz = p - g.cz(q);
+                        if (!(dz * dz < f.rc2)) continue;  // the kernel adds +0 there
+                        ASSERT_TRUE(q >= c - g.reach && q <= c + g.reach + 1)
+                            << "corner " << q << " of a particle in cell " << c << ", voxel " << voxel;
+                    }
+                }
+        }
+}
+
 TEST(BlockBins, BlocksOfTwoReachPlusTwoListAParticleInAtMostEightBlocksInIndexOrder) {
     const Cloud c = blobs(4, 6, 200, 0.05f);
     SlicesExtractor ex(settings_for(0.05f, 16), c.size());  // reach 4: 16 >= 2 * 4 + 2
