@@ -41,7 +41,7 @@ struct SliceGrid {
     std::uint64_t n_magic = std::uint64_t(1) << 28;  // ceil(2^32 / n)
     std::uint32_t bx = 0, by = 0, bz = 0;            // blocks per axis
     // Conservative reach of one particle in corners: every corner within R_c of it lies in
-    // [floor((p - o) / voxel) - reach, floor((p - o) / voxel) + reach + 1].
+    // [cell(p) - reach, cell(p) + reach + 1] (test CellsByAMultiplyStayWithinOneOfFloorAnd...).
     std::int32_t reach = 1;
 
     void set_voxel(float v) {
