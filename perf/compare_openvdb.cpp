@@ -127,7 +127,8 @@ int main(int argc, char** argv) {
     app.add_option("--sizes", sizes, "Dam-break block particle counts")->capture_default_str();
     app.add_option("--threads", threads, "Thread counts")->capture_default_str();
     app.add_option("--radius", radius, "Particle radius (voxel = radius / 2)")->capture_default_str();
-    app.add_option("--repeat", repeat, "Alternations per case (one OpenVDB run, 5 of ours); medians")
+    app.add_option("--repeat", repeat,
+                   fmt::format("Alternations per case (one OpenVDB run, {} of ours); medians", kOurRuns))
         ->capture_default_str();
     app.add_option("--splash", splash, "A splashing frame (PLY) to compare as well");
     app.add_option("--block", block, "Marching slices: cubes per block edge")->capture_default_str();
