@@ -86,8 +86,11 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
     // Walks from local corner (li, lj, lk) (clamped to the top slice); false when that corner is outside
     // the block's columns or outside the fluid. Per column, walk_lo/hi hold a run of corners walked through
     // (all inside, and their walk's end known): a walk that starts in it or reaches it is done.
+    auto off_columns = [n](std::int32_t li, std::int32_t lj, std::int32_t lk) {  // or below the block
+        return li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n);
+    };
     auto walk = [&](std::int32_t li, std::int32_t lj, std::int32_t lk) {
-        if (li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n)) return false;
+        if (off_columns(li, lj, lk)) return false;
         lk = std::min(lk, std::int32_t(n));
         const std::uint32_t col = static_cast<std::uint32_t>(lj) * n1 + static_cast<std::uint32_t>(li);
         std::int32_t& run_lo = s.walk_lo[col];
@@ -136,7 +139,7 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
                            lj = SliceGrid::cell(y + half, g.oy, g.inv_voxel) - j0,
                            lk = SliceGrid::cell(z + half, g.oz, g.inv_voxel) - k0;
         if (walk(li, lj, lk)) continue;
-        if (li < 0 || lj < 0 || lk < 0 || li > std::int32_t(n) || lj > std::int32_t(n)) continue;
+        if (off_columns(li, lj, lk)) continue;
         // The nearest corner is outside the fluid (a coarse voxel, a thin part): try the other corners
         // of the cube holding the centre.
         const std::int32_t ci = SliceGrid::cell(x, g.ox, g.inv_voxel) - i0,
