@@ -18,6 +18,9 @@ constexpr float dot(Vec3f a, Vec3f b) {
 constexpr Vec3f cross(Vec3f a, Vec3f b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
+inline bool finite(Vec3f a) {
+    return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
 inline float length(Vec3f a) {
     return std::sqrt(dot(a, a));
 }

@@ -52,7 +52,8 @@ TEST(CliTools, BadArgumentsAreClearErrors) {
     EXPECT_NE(r.output.find("unknown scene 'lake'"), std::string::npos) << r.output;
     r = run_cli("replay " + rivulet::test::temp_path("nothing.rivrec"));
     EXPECT_NE(r.status, 0);
-    EXPECT_NE(r.output.find("cannot open recording"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("cannot read recording: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("nothing.rivrec: cannot open: No such file"), std::string::npos) << r.output;
     r = run_cli("run --frames 3 --timing-warmup 3 --no-render");
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.output.find("--timing-warmup (3) must be less than --frames (3)"), std::string::npos)

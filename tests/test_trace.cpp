@@ -19,7 +19,7 @@ using namespace rivulet;
 TEST(Trace, RunWritesZonesThreadsFramesAndHandOverFlows) {
     constexpr int kFrames = 4;
     ThreadControl control(2);
-    TraceRecorder recorder(2, 4096);
+    TraceRecorder recorder(2);
     PipelineConfig config;
     config.size = {160, 90};
     config.trace = &recorder;

@@ -14,8 +14,10 @@
 
 #include "cli/commands.h"
 #include "runtime/lib/bench_report.h"
+#include "systems/io/io_limits.h"
 #include "systems/io/json_file.h"
 #include "systems/io/output_file.h"
+#include "systems/scenes/scene_json.h"
 
 extern char** environ;
 
@@ -88,10 +90,7 @@ int run_process(const std::vector<std::string>& args, const std::string& log) {
 }
 
 nlohmann::json read_json(const std::string& path) {
-    io::JsonFile file = io::read_json_file(path);
-    if (file.status != io::JsonFileStatus::kOk)
-        throw std::runtime_error(fmt::format("'{}' is not valid JSON", path));
-    return std::move(file.doc);
+    return io::read_json_file(path, io::kMaxReportFileBytes, "bench case reports");
 }
 
 int bench(const BenchOptions& o) {
@@ -102,6 +101,8 @@ int bench(const BenchOptions& o) {
     const std::vector<std::string> scenes = split_list(o.scenes, "--scenes");
     const std::vector<std::string> methods = split_list(o.methods, "--methods");
     const std::vector<int> threads = thread_counts(o.threads);
+    // Every scene is read and checked here, so a bad one fails before any case runs.
+    for (const std::string& scene : scenes) resolve_scene(scene);
     const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
     const std::string cases_dir = o.out + "/cases";
     std::filesystem::create_directories(cases_dir);

@@ -85,11 +85,9 @@ int run(const RunOptions& o) {
         };
     }
 
-    // Zones per thread: every job and item of every frame could land on one thread (T = 1).
     std::unique_ptr<TraceRecorder> trace;
     if (!o.trace.empty()) {
-        trace = std::make_unique<TraceRecorder>(static_cast<std::size_t>(threads.threads()),
-                                                static_cast<std::size_t>(o.scene.frames + 1) * 1024);
+        trace = std::make_unique<TraceRecorder>(static_cast<std::size_t>(threads.threads()));
         config.trace = trace.get();
     }
     FramePipeline pipeline(scene, config);
@@ -126,7 +124,10 @@ int run(const RunOptions& o) {
         write_chrome_trace(o.trace, capture);
         fmt::print("{}", format_trace_summary(summarize_trace(capture)));
         fmt::print("trace: {} (open in Perfetto UI or chrome://tracing){}\n", o.trace,
-                   trace->dropped() ? fmt::format(", {} zones dropped: buffers full", trace->dropped()) : "");
+                   trace->dropped()
+                       ? fmt::format(", {} zones dropped: a trace keeps at most {} (docs/tracing.md)",
+                                     trace->dropped(), trace->max_zones())
+                       : "");
     }
     if (!o.record.empty()) {
         write_recording(o.record, make_recording(pipeline, inputs_log));

@@ -6,6 +6,13 @@
 #include "cli/commands.h"
 #include "runtime/lib/allocator_tuning.h"
 
+namespace {
+
+// A bad command line (unknown option, value out of range) exits 2; a failure while running exits 1.
+constexpr int kUsageError = 2;
+
+}  // namespace
+
 int main(int argc, char** argv) {
     rivulet::keep_freed_memory_for_reuse();
     CLI::App app{"Rivulet: a task-graph runtime that turns particle fluids into surfaces and pictures"};
@@ -19,8 +26,14 @@ int main(int argc, char** argv) {
     rivulet::cli::add_bench_command(app, status);
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // One line in the same form as every other error; the option parser's hint line is left out.
+        std::fprintf(stderr, "rivulet: error: %s (see rivulet --help)\n", e.what());
+        return kUsageError;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "rivulet: error: %s\n", e.what());
         return 1;

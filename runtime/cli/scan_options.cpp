@@ -7,6 +7,8 @@
 #include "cli/commands.h"
 #include "systems/io/output_file.h"
 #include "systems/scenes/scene_json.h"
+#include "systems/scenes/scene_limits.h"
+#include "systems/scenes/scene_validation.h"
 
 namespace rivulet::cli {
 namespace {
@@ -85,14 +87,17 @@ void SceneOptions::add_to(CLI::App& cmd, const std::string& frames_help) {
         builtin += (builtin.empty() ? "" : ", ") + std::string(n);
     cmd.add_option("--scene", name, "Built-in scene (" + builtin + ") or a scene file FILE.json")
         ->capture_default_str();
-    cmd.add_option("--frames", frames, frames_help)->capture_default_str()->check(CLI::Range(1, 1000000));
+    cmd.add_option("--frames", frames, frames_help)
+        ->capture_default_str()
+        ->check(CLI::Range(1, kMaxRunFrames));
     cmd.add_option("--warmup", warmup, "Simulated frames before frame 0 (default: the scene's)")
-        ->check(CLI::Range(0, 1000000));
+        ->check(CLI::Range(0, kMaxWarmupFrames));
 }
 
 SceneDesc SceneOptions::resolve() const {
     SceneDesc scene = resolve_scene(name);
     if (warmup >= 0) scene.warmup_frames = warmup;
+    validate_scene(scene);
     return scene;
 }
 

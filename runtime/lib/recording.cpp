@@ -6,18 +6,18 @@
 
 #include "jobs/mesh_hash.h"
 #include "systems/io/file_format_error.h"
+#include "systems/io/io_limits.h"
 #include "systems/io/json_file.h"
 #include "systems/io/output_file.h"
 #include "systems/scan/scan_settings_json.h"
 #include "systems/scenes/scene_json.h"
+#include "systems/scenes/scene_limits.h"
 #include "systems/slices/slices_settings_json.h"
 
 namespace rivulet {
 namespace {
 
 using nlohmann::json;
-
-constexpr std::size_t kMaxFrames = 10'000'000;
 
 std::string checksum_of(const json& body) {
     const std::string text = body.dump();
@@ -67,14 +67,14 @@ void write_recording(const std::string& path, const Recording& r) {
 }
 
 Recording read_recording(const std::string& path) {
-    io::JsonFile file = io::read_json_file(path);
-    if (file.status == io::JsonFileStatus::kCannotOpen)
-        throw RecordingError("cannot open recording '" + path + "'");
     const std::string where = "recording '" + path + "'";
-    json& doc = file.doc;
-    if (file.status == io::JsonFileStatus::kInvalid || !doc.is_object())
-        throw RecordingError(where +
-                             " is not a Rivulet recording, or is truncated (not one valid JSON object)");
+    json doc;
+    try {
+        doc = io::read_json_file(path, io::kMaxRecordingBytes, "recordings");
+    } catch (const FileFormatError& e) {
+        throw RecordingError(std::string("cannot read recording: ") + e.what());
+    }
+    if (!doc.is_object()) throw RecordingError(where + " is not a Rivulet recording (not one JSON object)");
     if (doc.value("format", json()) != kRecordingFormat)
         throw RecordingError(where + " is not a Rivulet recording (format is not \"" +
                              std::string(kRecordingFormat) + "\")");
@@ -100,8 +100,13 @@ Recording read_recording(const std::string& path) {
         }
         const json& inputs = doc.at("inputs");
         const json& frames = doc.at("frames");
-        if (!inputs.is_array() || !frames.is_array() || frames.size() > kMaxFrames)
-            throw RecordingError(where + ": inputs and frames must be arrays");
+        if (!inputs.is_array() || !frames.is_array() || frames.size() > std::size_t(kMaxRunFrames))
+            throw RecordingError(where + ": inputs and frames must be arrays, frames at most " +
+                                 std::to_string(kMaxRunFrames));
+        if (inputs.size() != std::size_t(r.scene.warmup_frames) + frames.size())
+            throw RecordingError(where + ": expected one input per simulated frame (" +
+                                 std::to_string(std::size_t(r.scene.warmup_frames) + frames.size()) +
+                                 "), found " + std::to_string(inputs.size()));
         for (std::size_t i = 0; i < inputs.size(); ++i) {
             const json& e = inputs[i];
             const std::string at = where + ": inputs[" + std::to_string(i) + "]";
@@ -122,10 +127,6 @@ Recording read_recording(const std::string& path) {
         throw RecordingError(where + ": " + e.what());
     }
     if (r.frames.empty()) throw RecordingError(where + " records no frames");
-    if (r.inputs.size() != std::size_t(r.scene.warmup_frames) + r.frames.size())
-        throw RecordingError(where + ": expected one input per simulated frame (" +
-                             std::to_string(std::size_t(r.scene.warmup_frames) + r.frames.size()) +
-                             "), found " + std::to_string(r.inputs.size()));
     return r;
 }
 

@@ -1,5 +1,8 @@
 #include "runtime/lib/scene_simulation.h"
 
+#include "systems/scenes/scene_validation.h"
+#include "systems/sim/sph_scenes.h"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -14,26 +17,13 @@ constexpr std::size_t kSimChunk = 4096;
 
 SceneSimulation::SceneSimulation(const SceneDesc& scene, InputSource inputs)
     : scene_(scene), inputs_(std::move(inputs)) {
+    validate_scene(scene_);
     if (scene_.simulation == SimulationKind::kStreams) {
         stream_ = std::make_unique<StreamSimulation>(scene_);
         particles_.reserve(scene_.max_particles);
         return;
     }
-    // The scene's own fields are the truth for what every simulation shares.
-    SphDesc desc = scene_.sph;
-    desc.name = scene_.name;
-    desc.gravity = scene_.gravity;
-    desc.dt = scene_.dt;
-    desc.spheres = scene_.spheres;
-    desc.boxes = scene_.boxes;
-    const std::size_t needed = sph_seed_count(desc);
-    if (needed == 0)
-        throw std::invalid_argument("scene '" + scene_.name + "': its SPH fluid holds no particles");
-    if (needed > scene_.max_particles)
-        throw std::invalid_argument("scene '" + scene_.name + "': its SPH fluid needs " +
-                                    std::to_string(needed) + " particles but max_particles is " +
-                                    std::to_string(scene_.max_particles));
-    sph_ = std::make_unique<SphSimulation>(desc, scene_.max_particles);
+    sph_ = std::make_unique<SphSimulation>(sph_desc_of(scene_), scene_.max_particles);
     particles_.reserve(scene_.max_particles);
     sph_->seed(particles_);
 }

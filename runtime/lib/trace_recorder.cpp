@@ -10,9 +10,25 @@
 
 namespace rivulet {
 
-TraceRecorder::TraceRecorder(std::size_t threads, std::size_t zones_per_thread)
-    : epoch_(std::chrono::steady_clock::now()), buffers_(std::max<std::size_t>(threads, 1)) {
-    for (Buffer& b : buffers_) b.zones.resize(zones_per_thread);
+TraceRecorder::TraceRecorder(std::size_t threads, std::size_t max_zones)
+    : epoch_(std::chrono::steady_clock::now()),
+      max_zones_(max_zones),
+      zones_left_(max_zones),
+      buffers_(std::max<std::size_t>(threads, 1)) {
+    // Chunks can come out short only at the very end of the budget, so one thread never needs more.
+    const std::size_t chunks = (max_zones + kTraceChunkZones - 1) / kTraceChunkZones + 1;
+    for (Buffer& b : buffers_) b.chunks.reserve(chunks);
+}
+
+bool TraceRecorder::grow(Buffer& b) {
+    std::size_t left = zones_left_.load(std::memory_order_relaxed);
+    std::size_t take = 0;
+    do {
+        take = std::min(left, kTraceChunkZones);
+        if (take == 0) return false;
+    } while (!zones_left_.compare_exchange_weak(left, left - take, std::memory_order_relaxed));
+    b.chunks.push_back({std::make_unique_for_overwrite<TraceZone[]>(take), take, 0});
+    return true;
 }
 
 std::uint16_t TraceRecorder::intern(const std::string& name) {
@@ -27,11 +43,12 @@ void TraceRecorder::record(std::uint16_t name, std::uint32_t frame, std::int32_t
     // Outside any arena (before the first task ran) the index is negative: that is the main thread.
     const int slot = std::max(tbb::this_task_arena::current_thread_index(), 0);
     Buffer& b = buffers_[static_cast<std::size_t>(slot) % buffers_.size()];
-    if (b.count == b.zones.size()) {
+    if ((b.chunks.empty() || b.chunks.back().count == b.chunks.back().capacity) && !grow(b)) {
         ++b.dropped;
         return;
     }
-    b.zones[b.count++] = {begin_ns, end_ns, frame, item, name, static_cast<std::uint16_t>(slot)};
+    Chunk& c = b.chunks.back();
+    c.zones[c.count++] = {begin_ns, end_ns, frame, item, name, static_cast<std::uint16_t>(slot)};
 }
 
 std::size_t TraceRecorder::dropped() const {
@@ -42,8 +59,9 @@ std::size_t TraceRecorder::dropped() const {
 
 std::vector<TraceZone> TraceRecorder::zones() const {
     std::vector<TraceZone> all;
+    all.reserve(allocated_zones());
     for (const Buffer& b : buffers_)
-        all.insert(all.end(), b.zones.begin(), b.zones.begin() + static_cast<std::ptrdiff_t>(b.count));
+        for (const Chunk& c : b.chunks) all.insert(all.end(), c.zones.get(), c.zones.get() + c.count);
     std::stable_sort(all.begin(), all.end(),
                      [](const TraceZone& a, const TraceZone& b) { return a.begin_ns < b.begin_ns; });
     return all;

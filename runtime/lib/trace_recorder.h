@@ -1,10 +1,14 @@
 #pragma once
 // Trace capture: every job (and every item of a parallel job) runs in a zone, recorded into per-thread
-// buffers sized up front, without locks: a thread only ever appends to the buffer of its TBB arena slot
-// (the render thread is slot 0). Off, a zone costs one pointer test in the caller. A full buffer drops
-// further zones and counts them; it never grows during a run.
+// buffers without locks: a thread only ever appends to the buffer of its TBB arena slot (the render
+// thread is slot 0). Off, a zone costs one pointer test in the caller. A buffer grows by chunks of
+// kTraceChunkZones as zones arrive (one allocation per chunk, none per zone), so memory follows what is
+// recorded, not the run's length; all threads together keep at most `max_zones`, and zones beyond it
+// are dropped and counted.
+#include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
@@ -19,9 +23,13 @@ struct TraceZone {
     std::uint16_t thread = 0;
 };
 
+inline constexpr std::size_t kTraceChunkZones = 4096;                // 128 KiB
+inline constexpr std::size_t kMaxTraceZones = std::size_t{1} << 20;  // 32 MiB of zones, ~200 MB of JSON
+
 class TraceRecorder {
   public:
-    TraceRecorder(std::size_t threads, std::size_t zones_per_thread);
+    // Allocates only the chunk tables (a pointer per chunk that max_zones can need, per thread).
+    explicit TraceRecorder(std::size_t threads, std::size_t max_zones = kMaxTraceZones);
 
     // Setup only (allocates): the id of a zone name.
     std::uint16_t intern(const std::string& name);
@@ -36,17 +44,29 @@ class TraceRecorder {
                 std::int64_t end_ns);
 
     std::size_t threads() const { return buffers_.size(); }
+    std::size_t max_zones() const { return max_zones_; }
+    // Zones the chunks allocated so far can hold (all threads).
+    std::size_t allocated_zones() const { return max_zones_ - zones_left_.load(std::memory_order_relaxed); }
     std::size_t dropped() const;
     // All zones of all threads ordered by start time (after the run; allocates).
     std::vector<TraceZone> zones() const;
 
   private:
-    struct alignas(64) Buffer {
-        std::vector<TraceZone> zones;
-        std::size_t count = 0, dropped = 0;
+    struct Chunk {
+        std::unique_ptr<TraceZone[]> zones;
+        std::size_t capacity = 0, count = 0;
     };
+    struct alignas(64) Buffer {
+        std::vector<Chunk> chunks;  // reserved up front: appending never reallocates the table
+        std::size_t dropped = 0;
+    };
+    // A new chunk for `b`, up to kTraceChunkZones from the zones left to all threads; false when none are.
+    bool grow(Buffer& b);
+
     std::chrono::steady_clock::time_point epoch_;
     std::vector<std::string> names_;
+    std::size_t max_zones_;
+    std::atomic<std::size_t> zones_left_;
     std::vector<Buffer> buffers_;
 };
 

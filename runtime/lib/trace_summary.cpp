@@ -2,19 +2,64 @@
 
 #include <fmt/format.h>
 #include <algorithm>
-#include <fstream>
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "runtime/lib/stage_summary.h"
+#include "systems/io/io_limits.h"
+#include "systems/io/json_file.h"
 
 namespace rivulet {
 namespace {
 
+using nlohmann::json;
+
+// A capture comes from `rivulet run --trace` or from another tool: every number is checked before it is
+// used as an index, a frame or a time, and the job graph before it is walked.
+constexpr std::size_t kMaxJobs = 1024;
+constexpr std::size_t kMaxDependencies = 65536;
+constexpr std::int64_t kMaxFrame = 1'000'000'000;
+constexpr std::int64_t kMaxTid = 65535;
+constexpr double kMaxMicroseconds = 1e15;  // 31 years
+// Frames x jobs bounds the critical-path work (one longest-path pass over the graph per frame).
+constexpr double kMaxPathWork = 2.5e8;
+
+[[noreturn]] void fail(const std::string& what) {
+    throw std::runtime_error(what);
+}
+
+std::int64_t integer_in(const json& j, std::int64_t lo, std::int64_t hi, const std::string& where) {
+    if (j.is_number_integer()) {
+        const bool fits = j.is_number_unsigned() ? j.get<std::uint64_t>() <= std::uint64_t(hi)
+                                                 : j.get<std::int64_t>() >= lo && j.get<std::int64_t>() <= hi;
+        if (fits) return j.get<std::int64_t>();
+    }
+    fail(fmt::format("{} must be an integer in [{}, {}], got {}", where, lo, hi, j.dump()));
+}
+
+double time_in(const json& j, double lo, const std::string& where) {
+    if (j.is_number()) {
+        const double v = j.get<double>();
+        if (std::isfinite(v) && v >= lo && v <= kMaxMicroseconds) return v;
+    }
+    fail(fmt::format("{} must be a number of microseconds in [{}, {}], got {}", where, lo, kMaxMicroseconds,
+                     j.dump()));
+}
+
+const std::string& string_at(const json& object, const char* key, const std::string& where) {
+    const auto it = object.find(key);
+    if (it == object.end() || !it->is_string()) fail(fmt::format("{}.{} must be a string", where, key));
+    return it->get_ref<const std::string&>();
+}
+
 struct Zone {
-    std::string name;
-    int frame = 0, tid = 0;
+    std::size_t name = 0;  // index into Graph::names
+    std::int64_t frame = 0;
+    int tid = 0;
     double begin = 0, end = 0;  // µs
 };
 
@@ -24,6 +69,88 @@ struct Span {
     double length() const { return end > begin ? end - begin : 0.0; }
 };
 
+// The frame graph of otherData.jobs, checked: unique names, dependencies on known jobs, no cycle.
+// Names [0, jobs) are the graph's jobs in file order; zone names outside the graph follow.
+struct Graph {
+    std::vector<std::string> names;
+    std::unordered_map<std::string, std::size_t> index;
+    std::size_t jobs = 0;
+    std::vector<bool> nested, parent;             // per job
+    std::vector<std::vector<std::size_t>> after;  // per job (nested jobs: none that count)
+    std::vector<std::size_t> topological;         // top-level jobs, dependencies first
+
+    std::size_t intern(const std::string& name) {
+        const auto [it, added] = index.emplace(name, names.size());
+        if (added) names.push_back(name);
+        return it->second;
+    }
+};
+
+Graph read_graph(const json& list) {
+    if (!list.is_array()) fail("otherData.jobs must be an array");
+    if (list.size() > kMaxJobs)
+        fail(fmt::format("otherData.jobs lists {} jobs (limit {})", list.size(), kMaxJobs));
+    Graph g;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string where = fmt::format("otherData.jobs[{}]", i);
+        if (!list[i].is_object()) fail(where + " must be an object");
+        const std::string& name = string_at(list[i], "name", where);
+        if (g.index.count(name)) fail(fmt::format("{}: job '{}' is listed twice", where, name));
+        g.intern(name);
+    }
+    g.jobs = g.names.size();
+    g.nested.assign(g.jobs, false), g.parent.assign(g.jobs, false), g.after.resize(g.jobs);
+    const auto job_named = [&g](const std::string& name, const std::string& where) {
+        const auto it = g.index.find(name);
+        if (it == g.index.end())
+            fail(fmt::format("{} names '{}', which is not a job of the graph", where, name));
+        return it->second;
+    };
+    std::size_t dependencies = 0;
+    for (std::size_t i = 0; i < g.jobs; ++i) {
+        const json& j = list[i];
+        const std::string where = fmt::format("otherData.jobs[{}] '{}'", i, g.names[i]);
+        if (const auto it = j.find("nested_in"); it != j.end()) {
+            if (!it->is_string()) fail(where + ": nested_in must be a string");
+            const std::size_t p = job_named(it->get<std::string>(), where + ": nested_in");
+            if (p == i) fail(where + " is nested in itself");
+            g.nested[i] = true, g.parent[p] = true;
+            continue;
+        }
+        const auto after = j.find("after");
+        if (after == j.end() || !after->is_array()) fail(where + ": after must be an array of job names");
+        dependencies += after->size();
+        if (dependencies > kMaxDependencies)
+            fail(fmt::format("otherData.jobs: more than {} dependencies", kMaxDependencies));
+        for (const json& d : *after) {
+            if (!d.is_string()) fail(where + ": after must be an array of job names");
+            g.after[i].push_back(job_named(d.get<std::string>(), where + ": after"));
+        }
+    }
+    // Kahn's order over the top-level jobs; what is left holds a cycle.
+    std::vector<std::size_t> waiting(g.jobs, 0);
+    std::vector<std::vector<std::size_t>> before(g.jobs);
+    for (std::size_t i = 0; i < g.jobs; ++i) {
+        if (g.nested[i]) continue;
+        for (const std::size_t d : g.after[i]) {
+            if (g.nested[d])
+                fail(fmt::format("otherData.jobs: '{}' runs after '{}', a nested job", g.names[i],
+                                 g.names[d]));
+            ++waiting[i], before[d].push_back(i);
+        }
+    }
+    for (std::size_t i = 0; i < g.jobs; ++i)
+        if (!g.nested[i] && waiting[i] == 0) g.topological.push_back(i);
+    for (std::size_t k = 0; k < g.topological.size(); ++k)
+        for (const std::size_t next : before[g.topological[k]])
+            if (--waiting[next] == 0) g.topological.push_back(next);
+    for (std::size_t i = 0; i < g.jobs; ++i)
+        if (!g.nested[i] && waiting[i] > 0)
+            fail(fmt::format("otherData.jobs: the jobs form a cycle through '{}' (a job runs after itself)",
+                             g.names[i]));
+    return g;
+}
+
 double percentile(std::vector<double> v, double p) {
     if (v.empty()) return 0;
     std::sort(v.begin(), v.end());
@@ -31,34 +158,29 @@ double percentile(std::vector<double> v, double p) {
     return v[std::min(i, v.size() - 1)];
 }
 
-// Longest chain of job spans through the dependency graph (jobs listed in topological order).
-std::pair<double, std::vector<std::string>> critical_path(
-    const std::vector<std::pair<std::string, std::vector<std::string>>>& jobs,
-    const std::map<std::string, Span>& spans) {
-    std::map<std::string, double> longest;
-    std::map<std::string, std::string> via;
-    for (const auto& [name, after] : jobs) {
-        const auto it = spans.find(name);
-        const double own = it == spans.end() ? 0.0 : it->second.length();
+// Longest chain of job spans through the graph for one frame; `spans` is indexed by job. The chain ends
+// at the first job (file order) of greatest length; each job continues its first longest predecessor.
+std::pair<double, std::vector<std::string>> critical_path(const Graph& g, const std::vector<Span>& spans,
+                                                          std::vector<double>& longest,
+                                                          std::vector<std::size_t>& via) {
+    constexpr std::size_t kNone = ~std::size_t{0};
+    for (const std::size_t j : g.topological) {
         double before = 0;
-        for (const std::string& d : after) {
-            if (longest[d] > before || !via.count(name)) {
+        via[j] = kNone;
+        for (const std::size_t d : g.after[j]) {
+            if (longest[d] > before || via[j] == kNone) {
                 before = std::max(before, longest[d]);
-                via[name] = d;
+                via[j] = d;
             }
         }
-        longest[name] = before + own;
+        longest[j] = before + spans[j].length();
     }
-    std::string end;
+    std::size_t end = kNone;
     double length = -1;
-    for (const auto& [name, after] : jobs)
-        if (longest[name] > length) length = longest[name], end = name;
+    for (std::size_t j = 0; j < g.jobs; ++j)
+        if (!g.nested[j] && longest[j] > length) length = longest[j], end = j;
     std::vector<std::string> path;
-    for (std::string at = end; !at.empty();) {
-        path.push_back(at);
-        const auto it = via.find(at);
-        at = it == via.end() ? std::string() : it->second;
-    }
+    for (std::size_t at = end; at != kNone; at = via[at]) path.push_back(g.names[at]);
     std::reverse(path.begin(), path.end());
     return {std::max(length, 0.0), path};
 }
@@ -66,65 +188,77 @@ std::pair<double, std::vector<std::string>> critical_path(
 }  // namespace
 
 TraceSummary summarize_trace(const nlohmann::json& trace) {
-    if (!trace.contains("traceEvents") || !trace["traceEvents"].is_array())
-        throw std::runtime_error("not a Chrome trace: no traceEvents array");
-    const auto other = trace.value("otherData", nlohmann::json::object());
-    if (!other.contains("jobs"))
-        throw std::runtime_error("not a Rivulet capture: otherData.jobs (the frame graph) is missing");
-    // Nested jobs run inside their parent's zone: the parent's span covers them on the critical path,
-    // and their zones (not the parent's) count as busy time, so no work is counted twice.
-    std::vector<std::pair<std::string, std::vector<std::string>>> jobs;
-    std::vector<std::string> nested, parents;
-    for (const auto& j : other["jobs"]) {
-        if (j.contains("nested_in")) {
-            nested.push_back(j.at("name"));
-            parents.push_back(j.at("nested_in"));
-            continue;
-        }
-        jobs.emplace_back(j.at("name"), j.at("after").get<std::vector<std::string>>());
-    }
-    const auto is_parent = [&parents](const std::string& name) {
-        return std::find(parents.begin(), parents.end(), name) != parents.end();
-    };
+    if (!trace.is_object() || !trace.contains("traceEvents") || !trace["traceEvents"].is_array())
+        fail("not a Chrome trace: no traceEvents array");
+    const auto other = trace.find("otherData");
+    if (other == trace.end() || !other->is_object() || !other->contains("jobs"))
+        fail("not a Rivulet capture: otherData.jobs (the frame graph) is missing");
+    Graph g = read_graph(other->at("jobs"));
 
     std::vector<Zone> zones;
     std::map<int, std::string> thread_names;
-    for (const auto& e : trace["traceEvents"]) {
-        const std::string ph = e.value("ph", "");
-        if (ph == "M" && e.value("name", "") == "thread_name")
-            thread_names[e.at("tid")] = e.at("args").at("name");
-        if (ph != "X") continue;
-        Zone z{e.at("name"), e.at("args").value("frame", 0), e.value("tid", 0), e.at("ts"), 0};
-        z.end = z.begin + e.at("dur").get<double>();
-        zones.push_back(std::move(z));
+    const json& events = trace["traceEvents"];
+    for (std::size_t i = 0; i < events.size(); ++i) {
+        const json& e = events[i];
+        const std::string where = fmt::format("traceEvents[{}]", i);
+        if (!e.is_object()) fail(where + " must be an object");
+        const auto ph = e.find("ph");
+        if (ph == e.end() || !ph->is_string()) continue;
+        const auto tid_of = [&] {
+            const auto t = e.find("tid");
+            return t == e.end() ? 0 : static_cast<int>(integer_in(*t, 0, kMaxTid, where + ".tid"));
+        };
+        if (*ph == "M" && e.value("name", json()) == "thread_name") {
+            const auto args = e.find("args");
+            if (args == e.end() || !args->is_object()) fail(where + ".args must be an object");
+            thread_names[tid_of()] = string_at(*args, "name", where + ".args");
+        }
+        if (*ph != "X") continue;
+        Zone z;
+        z.name = g.intern(string_at(e, "name", where));
+        if (g.names.size() > kMaxJobs + 65536) fail("the trace names more than 65536 kinds of zone");
+        z.tid = tid_of();
+        if (const auto args = e.find("args"); args != e.end()) {
+            if (!args->is_object()) fail(where + ".args must be an object");
+            if (const auto f = args->find("frame"); f != args->end())
+                z.frame = integer_in(*f, 0, kMaxFrame, where + ".args.frame");
+        }
+        const auto ts = e.find("ts"), dur = e.find("dur");
+        if (ts == e.end() || dur == e.end()) fail(where + ": a complete event needs ts and dur");
+        z.begin = time_in(*ts, -kMaxMicroseconds, where + ".ts");
+        z.end = z.begin + time_in(*dur, 0, where + ".dur");
+        zones.push_back(z);
     }
-    if (zones.empty()) throw std::runtime_error("the trace holds no zones");
+    if (zones.empty()) fail("the trace holds no zones");
 
     TraceSummary s;
-    // Per job, in graph order, then the render-side zones.
-    std::vector<std::string> order;
-    for (const auto& [name, after] : jobs) order.push_back(name);
-    order.insert(order.end(), nested.begin(), nested.end());
-    for (const Zone& z : zones)
-        if (std::find(order.begin(), order.end(), z.name) == order.end()) order.push_back(z.name);
-    for (const std::string& name : order) {
-        std::vector<double> d;
-        for (const Zone& z : zones)
-            if (z.name == name) d.push_back((z.end - z.begin) * 1e-3);
+    // Per zone name: top-level jobs in file order, then nested jobs, then the zones outside the graph
+    // (render, png_encode).
+    std::vector<std::vector<double>> durations(g.names.size());
+    for (const Zone& z : zones) durations[z.name].push_back((z.end - z.begin) * 1e-3);
+    std::vector<std::size_t> order;
+    for (std::size_t j = 0; j < g.jobs; ++j)
+        if (!g.nested[j]) order.push_back(j);
+    for (std::size_t j = 0; j < g.jobs; ++j)
+        if (g.nested[j]) order.push_back(j);
+    for (std::size_t n = g.jobs; n < g.names.size(); ++n) order.push_back(n);
+    for (const std::size_t n : order) {
+        std::vector<double>& d = durations[n];
         if (d.empty()) continue;
-        JobStats js{
-            name, d.size(), percentile(d, 0.5), percentile(d, 0.95), *std::max_element(d.begin(), d.end()),
-            0};
+        JobStats js{g.names[n], d.size(), 0, 0, *std::max_element(d.begin(), d.end()), 0};
         for (double v : d) js.total_ms += v;
+        js.p95_ms = percentile(d, 0.95);
+        js.median_ms = percentile(std::move(d), 0.5);
         s.jobs.push_back(js);
     }
 
-    // Wall, busy, idle per thread.
+    // Wall, busy, idle per thread. Nested jobs run inside their parent's zone: their zones (not the
+    // parent's) count as busy time, so no work is counted twice.
     double first = 1e300, last = -1e300;
     std::map<int, double> busy;
     for (const Zone& z : zones) {
         first = std::min(first, z.begin), last = std::max(last, z.end);
-        if (!is_parent(z.name)) busy[z.tid] += z.end - z.begin;
+        if (z.name >= g.jobs || !g.parent[z.name]) busy[z.tid] += z.end - z.begin;
     }
     s.wall_ms = (last - first) * 1e-3;
     for (const auto& [tid, name] : thread_names) busy.emplace(tid, 0.0);
@@ -137,23 +271,53 @@ TraceSummary summarize_trace(const nlohmann::json& trace) {
     s.parallelism = s.wall_ms > 0 ? s.busy_ms / s.wall_ms : 0;
 
     // Per frame: job spans (critical path) and the extraction span (overlap with the previous render).
-    std::map<int, std::map<std::string, Span>> spans;
-    std::map<int, Span> extraction, render;
-    for (const Zone& z : zones) {
-        if (z.name == "render") {
-            render[z.frame].add(z.begin, z.end);
-        } else if (z.name != "png_encode") {
-            spans[z.frame][z.name].add(z.begin, z.end);
-            extraction[z.frame].add(z.begin, z.end);
+    const std::size_t render_name = g.intern("render"), png_name = g.intern("png_encode");
+    std::vector<std::size_t> by_frame(zones.size());
+    std::iota(by_frame.begin(), by_frame.end(), std::size_t{0});
+    std::stable_sort(by_frame.begin(), by_frame.end(),
+                     [&zones](std::size_t a, std::size_t b) { return zones[a].frame < zones[b].frame; });
+    std::size_t frames_with_jobs = 0;
+    for (std::size_t k = 0; k < by_frame.size(); ++k)
+        if ((k == 0 || zones[by_frame[k]].frame != zones[by_frame[k - 1]].frame)) ++frames_with_jobs;
+    if (double(frames_with_jobs) * double(std::max<std::size_t>(g.jobs, 1)) > kMaxPathWork)
+        fail(fmt::format("the trace has {} frames of a {}-job graph: too large to summarize",
+                         frames_with_jobs, g.jobs));
+
+    std::map<std::int64_t, Span> extraction, render;
+    std::vector<Span> spans(g.jobs);
+    std::vector<double> longest(g.jobs);
+    std::vector<std::size_t> via(g.jobs);
+    std::vector<std::pair<double, std::size_t>> lengths;  // (length, first zone of the frame in by_frame)
+    const auto frame_spans = [&](std::size_t k) {
+        std::fill(spans.begin(), spans.end(), Span{});
+        const std::int64_t frame = zones[by_frame[k]].frame;
+        for (; k < by_frame.size() && zones[by_frame[k]].frame == frame; ++k) {
+            const Zone& z = zones[by_frame[k]];
+            if (z.name < g.jobs) spans[z.name].add(z.begin, z.end);
         }
+        return k;
+    };
+    for (std::size_t k = 0; k < by_frame.size();) {
+        const std::size_t begin = k;
+        bool any = false;
+        for (std::size_t i = k; i < by_frame.size() && zones[by_frame[i]].frame == zones[by_frame[k]].frame;
+             ++i) {
+            const Zone& z = zones[by_frame[i]];
+            if (z.name == render_name) {
+                render[z.frame].add(z.begin, z.end);
+            } else if (z.name != png_name) {
+                extraction[z.frame].add(z.begin, z.end);
+                any = true;
+            }
+        }
+        k = frame_spans(begin);
+        if (any) lengths.emplace_back(critical_path(g, spans, longest, via).first, begin);
     }
-    std::vector<std::pair<double, int>> lengths;
-    for (const auto& [frame, job_spans] : spans)
-        lengths.emplace_back(critical_path(jobs, job_spans).first, frame);
-    std::sort(lengths.begin(), lengths.end());
+    std::stable_sort(lengths.begin(), lengths.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
     if (!lengths.empty()) {
-        const int median_frame = lengths[lengths.size() / 2].second;
-        const auto [length, path] = critical_path(jobs, spans[median_frame]);
+        frame_spans(lengths[lengths.size() / 2].second);
+        const auto [length, path] = critical_path(g, spans, longest, via);
         s.critical_path_ms = length * 1e-3;
         s.critical_path = path;
     }
@@ -168,19 +332,12 @@ TraceSummary summarize_trace(const nlohmann::json& trace) {
     }
     s.overlap_ms = median(overlap);
     s.overlap_share = median(share);
-    s.frames = static_cast<int>(std::max(spans.size(), render.size()));
+    s.frames = static_cast<int>(std::max(extraction.size(), render.size()));
     return s;
 }
 
 TraceSummary summarize_trace_file(const std::string& path) {
-    std::ifstream f(path);
-    if (!f) throw std::runtime_error("cannot open " + path);
-    nlohmann::json doc;
-    try {
-        doc = nlohmann::json::parse(f);
-    } catch (const nlohmann::json::exception& e) {
-        throw std::runtime_error(path + ": not JSON: " + e.what());
-    }
+    const nlohmann::json doc = io::read_json_file(path, io::kMaxTraceFileBytes, "traces");
     try {
         return summarize_trace(doc);
     } catch (const nlohmann::json::exception& e) {

@@ -8,6 +8,8 @@
 #include <system_error>
 
 #include "systems/io/file_format_error.h"
+#include "systems/io/io_limits.h"
+#include "systems/io/text_parse.h"
 
 namespace rivulet::io {
 
@@ -89,6 +91,13 @@ std::uint64_t InputFile::skip(std::uint64_t n) {
     }
     consumed_ += done;
     return done;
+}
+
+void InputFile::require_text_size(std::string_view format) const {
+    if (size_ <= kMaxTextFileBytes) return;
+    fail(std::string(format) + " file of " + std::to_string(size_) + " bytes is over the " +
+         bytes_text(kMaxTextFileBytes) +
+         " limit for text formats (XYZ, ASCII PLY, ASCII VTK, OBJ); convert it to binary PLY");
 }
 
 void InputFile::fail(std::string_view what) const {

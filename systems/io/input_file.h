@@ -32,6 +32,10 @@ class InputFile {
     // Skips up to `n` bytes; returns how many were skipped.
     std::uint64_t skip(std::uint64_t n);
 
+    // Text formats are parsed value by value; beyond kMaxTextFileBytes (io_limits.h) this fails with a
+    // message naming `format`, the file's size and the limit.
+    void require_text_size(std::string_view format) const;
+
     [[noreturn]] void fail(std::string_view what) const;
     [[noreturn]] void fail_at_line(std::uint64_t line, std::string_view what) const;
 

@@ -61,6 +61,7 @@ std::array<float, 3> parse_triple(const LineFields& lines, std::span<const std::
 // materials, texture coordinates, lines) are ignored.
 MeshData read_obj_mesh(const std::string& path) {
     InputFile in(path);
+    in.require_text_size("OBJ");
     LineFields lines(in);
     std::vector<std::array<float, 3>> positions, normals;
     std::vector<std::uint32_t> indices;

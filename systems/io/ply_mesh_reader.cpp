@@ -140,6 +140,7 @@ MeshData read_ply_mesh(const std::string& path) {
 
     std::unique_ptr<ValueSource> src;
     if (h.format == PlyFormat::ascii) {
+        in.require_text_size("ASCII PLY");
         src = std::make_unique<AsciiSource>(in);
     } else {
         src = std::make_unique<BinarySource>(in, h.big_endian());

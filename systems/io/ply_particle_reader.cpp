@@ -115,6 +115,7 @@ ParticleCloud read_binary(InputFile& in, const PlyHeader& h, const PlyElement& v
 }
 
 ParticleCloud read_ascii(InputFile& in, const PlyElement& v, const CoordinateColumns& c) {
+    in.require_text_size("ASCII PLY");
     const std::uint64_t n = v.count;
     const std::size_t columns = v.properties.size();
     // Each value takes at least one digit and one separator (the very last may lack its newline).

@@ -1,6 +1,8 @@
 #include "systems/io/text_parse.h"
 
 #include <charconv>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -88,6 +90,24 @@ std::string quoted(std::string_view token) {
     }
     if (token.size() > kMax) r += "...";
     return r + "'";
+}
+
+std::string number_text(double v) {
+    char text[32];
+    // Whole numbers as integers: a limit and a count read better as 2000000000 than as 2e+09.
+    std::snprintf(text, sizeof text, v == std::floor(v) && std::abs(v) < 1e15 ? "%.0f" : "%.9g", v);
+    return text;
+}
+
+std::string bytes_text(std::uint64_t bytes) {
+    constexpr const char* kUnits[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    if (bytes < 1024) return std::to_string(bytes) + " bytes";
+    double v = static_cast<double>(bytes);
+    int unit = 0;
+    while (v >= 1024.0 && unit < 6) v /= 1024.0, ++unit;
+    char text[32];
+    std::snprintf(text, sizeof text, v == std::floor(v) ? "%.0f %s" : "%.1f %s", v, kUnits[unit]);
+    return text;
 }
 
 }  // namespace rivulet::io

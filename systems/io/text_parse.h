@@ -24,6 +24,13 @@ std::string to_lower_ascii(std::string_view s);
 // Lower-cased extension including the dot ("" if none), for case-insensitive format dispatch.
 std::string lower_extension(const std::string& path);
 
+// A number for an error message: whole numbers in full ("2000000000"), others to 9 significant digits
+// ("1e-06", "0.25").
+std::string number_text(double v);
+
+// "512 bytes", "16 MiB", "2.5 GiB": a size for an error message.
+std::string bytes_text(std::uint64_t bytes);
+
 // Quotes a token for an error message, shortened so binary garbage cannot flood the message.
 std::string quoted(std::string_view token);
 

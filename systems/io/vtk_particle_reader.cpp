@@ -148,6 +148,7 @@ ParticleCloud read_ascii(InputFile& in, const VtkPoints& pts) {
 ParticleCloud read_vtk_particles(const std::string& path) {
     InputFile in(path);
     const VtkPoints pts = read_vtk_header(in);
+    if (!pts.binary) in.require_text_size("ASCII VTK");
     return pts.binary ? read_binary(in, pts) : read_ascii(in, pts);
 }
 

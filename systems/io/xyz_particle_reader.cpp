@@ -8,6 +8,7 @@ namespace rivulet::io {
 // ignored; '#' lines are comments.
 ParticleCloud read_xyz_particles(const std::string& path) {
     InputFile in(path);
+    in.require_text_size("XYZ");
     LineFields lines(in);
     ParticleCloud cloud;
     while (lines.next()) {

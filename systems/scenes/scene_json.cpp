@@ -2,8 +2,10 @@
 
 #include <stdexcept>
 
+#include "systems/io/io_limits.h"
 #include "systems/io/json_fields.h"
 #include "systems/io/json_file.h"
+#include "systems/scenes/scene_validation.h"
 
 namespace rivulet {
 
@@ -98,6 +100,7 @@ SceneDesc scene_from_json(const json& doc, const std::string& origin) {
         fields.erase("base");
     }
     json_fields::read(fields, scene, origin);
+    validate_scene(scene, origin);
     return scene;
 }
 
@@ -106,12 +109,7 @@ json scene_to_json(const SceneDesc& scene) {
 }
 
 SceneDesc load_scene_file(const std::string& path) {
-    const io::JsonFile file = io::read_json_file(path);
-    if (file.status == io::JsonFileStatus::kCannotOpen)
-        throw std::runtime_error("cannot open scene file '" + path + "'");
-    if (file.status == io::JsonFileStatus::kInvalid)
-        throw std::runtime_error("scene file '" + path + "' is not valid JSON");
-    return scene_from_json(file.doc, path);
+    return scene_from_json(io::read_json_file(path, io::kMaxSceneFileBytes, "scene files"), path);
 }
 
 SceneDesc resolve_scene(const std::string& name_or_path) {

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "systems/scenes/scene_limits.h"
+
 namespace rivulet {
 
 namespace {
@@ -13,15 +15,15 @@ namespace {
 constexpr double kCourantSafety = 0.5;
 constexpr int kMaxSubsteps = 4096;
 
-void require(bool ok, const char* what) {
-    if (!ok) throw std::invalid_argument(std::string("pool: ") + what);
+void require(bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument("pool: " + what);
 }
 
 }  // namespace
 
 HeightFieldPool::HeightFieldPool(const PoolDesc& desc, float frame_dt) : desc_(desc) {
-    require(desc.nx >= 2 && desc.nx <= 4096 && desc.nz >= 2 && desc.nz <= 4096,
-            "nx, nz must be in [2, 4096]");
+    require(desc.nx >= 2 && desc.nx <= kMaxPoolSamples && desc.nz >= 2 && desc.nz <= kMaxPoolSamples,
+            "nx, nz must be in [2, " + std::to_string(kMaxPoolSamples) + "]");
     require(std::isfinite(desc.x0) && std::isfinite(desc.z0) && std::isfinite(desc.level),
             "non-finite placement");
     require(std::isfinite(desc.size_x) && std::isfinite(desc.size_z) && desc.size_x > 0 && desc.size_z > 0,

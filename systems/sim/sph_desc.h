@@ -76,7 +76,9 @@ struct SphDesc {
     float support() const { return support_ratio * spacing; }
 };
 
-// Number of particles seeding `desc` places (lattice points inside its fluid boxes and spheres).
+// Number of particles seeding `desc` places (lattice points inside its fluid boxes and spheres), counted
+// without visiting them; any count over kMaxSceneParticles (scene_limits.h) comes back as
+// kMaxSceneParticles + 1.
 std::size_t sph_seed_count(const SphDesc& desc);
 
 }  // namespace rivulet

@@ -27,6 +27,16 @@ BoxCollider frame_bounds(const SphDesc& d) {
 
 }  // namespace
 
+SphDesc sph_desc_of(const SceneDesc& scene) {
+    SphDesc desc = scene.sph;
+    desc.name = scene.name;
+    desc.gravity = scene.gravity;
+    desc.dt = scene.dt;
+    desc.spheres = scene.spheres;
+    desc.boxes = scene.boxes;
+    return desc;
+}
+
 SphDesc make_dambreak_slab(float a, int per_width, int layers) {
     SphDesc d;
     d.name = "dambreak_slab";

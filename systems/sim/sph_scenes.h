@@ -6,6 +6,7 @@
 //   slosh     a pool in a tank moved sinusoidally along x
 #include <cstddef>
 
+#include "systems/scenes/scene.h"
 #include "systems/sim/sph_desc.h"
 
 namespace rivulet {
@@ -17,5 +18,9 @@ SphDesc make_slosh(std::size_t particles = 25000);
 // The quasi-2D dam break of the tests: column width a, height 2a, `layers` particle layers across the
 // tank (z), a / spacing = `per_width` particles across the column; tank 6a long.
 SphDesc make_dambreak_slab(float a, int per_width, int layers);
+
+// The fluid an SPH scene simulates: its sph desc with the scene's own gravity, dt and colliders, which
+// are the truth for what every simulation shares.
+SphDesc sph_desc_of(const SceneDesc& scene);
 
 }  // namespace rivulet

@@ -1,22 +1,79 @@
 #include "systems/sim/sph_simulation.h"
 
+#include "systems/io/text_parse.h"
+#include "systems/scenes/scene_limits.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 namespace rivulet {
 
 namespace {
 
-// Lattice points (spacing d) of a box: min + (i + 1/2) d along each axis, as many as fit.
+// Lattice points (spacing d) of a box: min + (i + 1/2) d along each axis, as many as fit. Only called
+// once sph_seed_count has shown the whole lattice is small.
 int lattice_count(float lo, float hi, float d) {
     const float n = std::floor((hi - lo) / d + 1e-3f);
     return n > 0.0f ? static_cast<int>(n) : 0;
+}
+
+// Any count above this is as good as infinite: no scene may hold that many particles.
+constexpr std::size_t kCountSaturation = std::size_t{kMaxSceneParticles} + 1;
+
+std::size_t saturating_add(std::size_t a, std::size_t b) {
+    return std::min(a + std::min(b, kCountSaturation), kCountSaturation);
+}
+
+// lattice_count without the int: a tiny spacing gives a huge float, not an overflow.
+double lattice_extent(float lo, float hi, float d) {
+    const float n = std::floor((hi - lo) / d + 1e-3f);
+    return n > 0.0f ? static_cast<double>(n) : 0.0;
+}
+
+std::size_t box_seed_count(const SphFluidBox& b, float d) {
+    const double n = lattice_extent(b.min.x, b.max.x, d) * lattice_extent(b.min.y, b.max.y, d) *
+                     lattice_extent(b.min.z, b.max.z, d);
+    return n >= double(kCountSaturation) ? kCountSaturation : static_cast<std::size_t>(n);
+}
+
+// The points for_each_seed places in a sphere, counted row by row: along a row the test
+// dot(o, o) <= r^2 holds for |i| up to some m (float rounding is monotone), found by bisection.
+std::size_t sphere_seed_count(const SphFluidSphere& s, float d) {
+    const float reach = std::floor(s.radius / d);
+    // The cube inscribed in a sphere of r lattice steps holds (2 floor(r / sqrt 3) + 1)^3 points, over
+    // kMaxSceneParticles from r = 400 on: larger spheres need not be counted.
+    if (!(reach <= 512.0f)) return kCountSaturation;
+    const int r = static_cast<int>(reach);
+    const float r2 = s.radius * s.radius;
+    const auto inside = [d, r2](int i, int j, int k) {
+        const Vec3f o{static_cast<float>(i) * d, static_cast<float>(j) * d, static_cast<float>(k) * d};
+        return dot(o, o) <= r2;
+    };
+    std::size_t n = 0;
+    for (int k = -r; k <= r; ++k) {
+        for (int j = -r; j <= r; ++j) {
+            if (!inside(0, j, k)) continue;
+            int lo = 0, hi = r;  // inside(lo) holds; find the largest such lo
+            while (lo < hi) {
+                const int mid = lo + (hi - lo + 1) / 2;
+                if (inside(mid, j, k)) {
+                    lo = mid;
+                } else {
+                    hi = mid - 1;
+                }
+            }
+            n += 2 * static_cast<std::size_t>(lo) + 1;
+        }
+    }
+    return n;
 }
 
 template <class F>
@@ -71,25 +128,109 @@ float lattice_mass(const SphKernels& k, float d, float rho0) {
 }  // namespace
 
 std::size_t sph_seed_count(const SphDesc& desc) {
+    const float d = desc.spacing;
+    if (!(d > 0.0f)) return kCountSaturation;
     std::size_t n = 0;
-    for_each_seed(desc, [&](Vec3f, Vec3f) { ++n; });
+    for (const SphFluidBox& b : desc.fluid_boxes) n = saturating_add(n, box_seed_count(b, d));
+    for (const SphFluidSphere& s : desc.fluid_spheres) n = saturating_add(n, sphere_seed_count(s, d));
     return n;
+}
+
+namespace {
+
+std::size_t default_chunks(std::size_t max_particles) {
+    return std::clamp<std::size_t>((max_particles + 4095) / 4096, 1, 32);
+}
+
+// Cells h wide over the tank plus one cell all round (particles outside go to border cells); 0 when an
+// axis would need more than kMaxGridCellsPerAxis.
+std::uint32_t cells_along(float extent, float h) {
+    const double n = std::ceil(double(extent) / double(h)) + 2.0;
+    return n <= double(kMaxGridCellsPerAxis) ? static_cast<std::uint32_t>(n) : 0;
+}
+
+}  // namespace
+
+std::string sph_desc_problem(const SphDesc& d, std::size_t max_particles) {
+    using io::number_text;
+    constexpr double kHuge = 1e30;  // no upper bound but finiteness
+    const auto range = [](const char* key, double v, double lo, double hi, bool open_lo = false) {
+        if (std::isfinite(v) && (open_lo ? v > lo : v >= lo) && v <= hi) return std::string();
+        const std::string want =
+            hi == kHuge ? std::string(" finite and ") + (open_lo ? "> " : ">= ") + number_text(lo)
+                        : std::string(" in ") + (open_lo ? "(" : "[") + number_text(lo) + ", " +
+                              number_text(hi) + "]";
+        return std::string(key) + " must be" + want + ", got " + number_text(v);
+    };
+    for (const std::string& problem :
+         {range("sph.spacing", d.spacing, 0, 1e3, true), range("sph.support_ratio", d.support_ratio, 1, 8),
+          range("sph.rest_density", d.rest_density, 0, kHuge, true),
+          range("sph.sound_speed", d.sound_speed, 0, kHuge, true), range("sph.gamma", d.gamma, 1, 100),
+          range("sph.viscosity", d.viscosity, 0, kHuge),
+          range("sph.artificial_viscosity", d.artificial_viscosity, 0, kHuge),
+          range("sph.tension", d.tension, 0, kHuge),
+          range("sph.tension_threshold", d.tension_threshold, 0, kHuge), range("dt", d.dt, 0, 1, true),
+          range("sph.cfl", d.cfl, 0, 10, true),
+          range("sph.max_substeps", d.max_substeps, 1, kMaxSphSubsteps)})
+        if (!problem.empty()) return problem;
+    const BoxCollider& box = d.container.box;
+    if (!finite(box.min) || !finite(box.max) || !(box.max.x > box.min.x) || !(box.max.y > box.min.y) ||
+        !(box.max.z > box.min.z))
+        return "sph.container.box needs finite min < max on every axis";
+    if (!finite(d.container.axis) || !std::isfinite(d.container.amplitude) ||
+        !std::isfinite(d.container.frequency) || !finite(d.gravity))
+        return "the container's motion and gravity must be finite";
+    for (const SphFluidBox& b : d.fluid_boxes)
+        if (!finite(b.min) || !finite(b.max) || !finite(b.velocity))
+            return "sph.fluid_boxes need finite min, max and velocity";
+    for (const SphFluidSphere& s : d.fluid_spheres)
+        if (!finite(s.center) || !finite(s.velocity) || !std::isfinite(s.radius) || s.radius < 0)
+            return "sph.fluid_spheres need a finite center and velocity and a radius >= 0";
+
+    // The grid before the lattice: a spacing far too small for the tank is named as such.
+    const float h = d.support();
+    const Vec3f size = box.max - box.min;
+    const std::uint32_t n[3] = {cells_along(size.x, h), cells_along(size.y, h), cells_along(size.z, h)};
+    for (int a = 0; a < 3; ++a)
+        if (n[a] == 0)
+            return "the tank is " + number_text(double((&size.x)[a]) / h) + " kernel radii along " +
+                   "xyz"[a] + " (limit " + std::to_string(kMaxGridCellsPerAxis - 2) +
+                   "): sph.spacing is too small for sph.container.box";
+    const std::uint64_t cells = std::uint64_t{n[0]} * n[1] * n[2];
+    if (cells > kMaxGridCells)
+        return "the tank needs " + std::to_string(cells) + " grid cells (limit " +
+               std::to_string(kMaxGridCells) + "): sph.spacing is too small for sph.container.box";
+
+    const std::size_t seeds = sph_seed_count(d);
+    if (seeds == 0) return "its SPH fluid holds no particles";
+    if (seeds > max_particles)
+        return "its SPH fluid needs " +
+               (seeds > kMaxSceneParticles ? "more than " + std::to_string(kMaxSceneParticles)
+                                           : std::to_string(seeds)) +
+               " particles but max_particles is " + std::to_string(max_particles);
+    const std::uint64_t bytes = sph_buffer_bytes(cells, max_particles);
+    if (bytes > kMaxSimulationBytes)
+        return "its SPH buffers would take " + io::bytes_text(bytes) + " (" + std::to_string(max_particles) +
+               " particles, " + std::to_string(cells) + " grid cells), over the " +
+               io::bytes_text(kMaxSimulationBytes) + " limit";
+    return {};
+}
+
+std::uint64_t sph_buffer_bytes(std::uint64_t cells, std::size_t max_particles) {
+    const std::uint64_t n = std::max<std::size_t>(max_particles, 1);
+    // 11 float columns, ids, sorted keys, store-order keys; counts and cursors per chunk and cell; starts
+    // and totals per cell.
+    return n * 14 * 4 + (2 * default_chunks(max_particles) + 2) * cells * 4;
 }
 
 SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std::size_t chunks)
     : desc_(desc),
       max_particles_(max_particles),
-      chunks_(chunks > 0 ? chunks : std::clamp<std::size_t>((max_particles + 4095) / 4096, 1, 32)) {
+      chunks_(chunks > 0 ? chunks : default_chunks(max_particles)) {
+    if (const std::string problem = sph_desc_problem(desc, max_particles); !problem.empty())
+        throw std::invalid_argument("SphDesc: " + problem);
     const float d = desc.spacing;
     const BoxCollider& box = desc.container.box;
-    if (!(d > 0.0f) || !(desc.support_ratio >= 1.0f) || !(desc.rest_density > 0.0f) ||
-        !(desc.sound_speed > 0.0f) || !(desc.gamma >= 1.0f) || !(desc.viscosity >= 0.0f) ||
-        !(desc.dt > 0.0f) || !(desc.cfl > 0.0f) || desc.max_substeps < 1 || !(box.max.x > box.min.x) ||
-        !(box.max.y > box.min.y) || !(box.max.z > box.min.z)) {
-        throw std::invalid_argument(
-            "SphDesc: spacing, support_ratio >= 1, rest density, sound speed, gamma "
-            ">= 1, viscosity >= 0, dt, cfl, max_substeps >= 1 and a non-empty tank");
-    }
     const float h = desc.support();
     fluid_.kernels = SphKernels(h);
     fluid_.rest_density = desc.rest_density;
@@ -104,17 +245,10 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
     fluid_.tension_threshold = desc.tension_threshold;
     fluid_.gx = desc.gravity.x, fluid_.gy = desc.gravity.y, fluid_.gz = desc.gravity.z;
 
-    // Cells h wide over the tank plus one cell all round (particles outside go to border cells).
     const Vec3f size = box.max - box.min;
-    auto cells_along = [h](float s) {
-        const double n = std::ceil(double(s) / h) + 2.0;
-        if (n > 4096.0) throw std::invalid_argument("SphDesc: tank over 4096 cells along an axis");
-        return static_cast<std::uint32_t>(n);
-    };
     grid_.cell = h;
-    grid_.nx = cells_along(size.x), grid_.ny = cells_along(size.y), grid_.nz = cells_along(size.z);
+    grid_.nx = cells_along(size.x, h), grid_.ny = cells_along(size.y, h), grid_.nz = cells_along(size.z, h);
     const std::size_t cells = grid_.cells();
-    if (cells > (std::size_t(1) << 28)) throw std::invalid_argument("SphDesc: grid over 2^28 cells");
 
     for (const SphereCollider& s : desc.spheres) spheres_.push_back({s.center, s.radius});
     for (const BoxCollider& b : desc.boxes) boxes_.push_back({b.min, b.max});

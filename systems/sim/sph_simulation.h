@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "jobs/ballistic_step.h"
@@ -31,6 +32,20 @@
 #include "systems/sim/sph_desc.h"
 
 namespace rivulet {
+
+// Grid and time-stepping limits (docs/limits.md): the tank is at most this many kernel radii along an
+// axis and in all, and a frame at most kMaxSphSubsteps substeps.
+inline constexpr std::uint32_t kMaxGridCellsPerAxis = 4096;
+inline constexpr std::uint64_t kMaxGridCells = std::uint64_t{1} << 28;
+inline constexpr int kMaxSphSubsteps = 4096;
+
+// What is wrong with `desc` for a simulation of up to `max_particles` ("" when nothing): a value out of
+// range (named by its scene-file key), a grid over its limits, an initial fluid that is empty or holds
+// more than max_particles (counted, never walked), or buffers over kMaxSimulationBytes. Takes a few
+// milliseconds at most, whatever the desc.
+std::string sph_desc_problem(const SphDesc& desc, std::size_t max_particles);
+// Bytes SphSimulation allocates for a grid of `cells` and `max_particles`.
+std::uint64_t sph_buffer_bytes(std::uint64_t cells, std::size_t max_particles);
 
 struct SphPhase {
     const char* name;

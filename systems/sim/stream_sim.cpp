@@ -7,13 +7,13 @@
 #include <string>
 
 #include "jobs/counter_rng.h"
+#include "systems/scenes/scene_validation.h"
 #include "systems/sim/height_field_pool.h"
 
 namespace rivulet {
 
 namespace {
 
-constexpr std::uint32_t kMaxParticles = 50'000'000;
 // Particles this far from the origin are lost to the scene whatever it is; recycling them keeps stray
 // ones from living out their lifetime far off-screen.
 constexpr float kWorldHalfExtent = 1000.0f;
@@ -22,53 +22,10 @@ constexpr float kRestSpeed = 0.2f;  // m/s: slower than this on the ground count
 // Random streams of one emitted particle (counter_uniform's last argument).
 enum : std::uint64_t { kDiskRadius = 0, kDiskAngle = 1, kConeCos = 2, kConeAngle = 3 };
 
-bool finite(Vec3f v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-void validate(const SceneDesc& s) {
-    const auto check = [&](bool ok, const char* what) {
-        if (!ok) throw std::invalid_argument("scene '" + s.name + "': " + what);
-    };
-    check(std::isfinite(s.dt) && s.dt > 0 && s.dt <= 1, "dt must be in (0, 1]");
-    check(s.substeps >= 1 && s.substeps <= 64, "substeps must be in [1, 64]");
-    check(s.max_particles >= 1 && s.max_particles <= kMaxParticles, "max_particles must be in [1, 50000000]");
-    check(std::isfinite(s.particle_radius) && s.particle_radius > 0, "particle_radius must be positive");
-    check(std::isfinite(s.lifetime) && s.lifetime > 0, "lifetime must be positive");
-    check(s.warmup_frames >= 0, "warmup_frames must be >= 0");
-    check(finite(s.gravity) && std::isfinite(s.ground_y), "gravity and ground_y must be finite");
-    check(std::isfinite(s.restitution) && s.restitution >= 0 && s.restitution <= 1,
-          "restitution must be in [0, 1]");
-    check(std::isfinite(s.friction) && s.friction >= 0 && s.friction <= 1, "friction must be in [0, 1]");
-    check(std::isfinite(s.v_min) && std::isfinite(s.v_max) && s.v_min < s.v_max, "need finite v_min < v_max");
-    check(finite(s.camera.eye) && finite(s.camera.target) && std::isfinite(s.camera.fov_y_deg) &&
-              s.camera.fov_y_deg > 0 && s.camera.fov_y_deg < 180,
-          "camera must be finite with fov_y_deg in (0, 180)");
-    for (const Emitter& e : s.emitters) {
-        check(finite(e.position) && finite(e.direction) && dot(e.direction, e.direction) > 0,
-              "emitter needs a finite position and a non-zero direction");
-        check(std::isfinite(e.speed) && std::isfinite(e.spread) && std::isfinite(e.nozzle_radius),
-              "emitter values must be finite");
-        check(e.spread >= 0 && e.spread <= std::numbers::pi_v<float> && e.nozzle_radius >= 0,
-              "emitter spread must be in [0, pi] and nozzle_radius >= 0");
-        check(std::isfinite(e.rate) && e.rate >= 0 && e.rate <= 1e9f, "emitter rate must be in [0, 1e9]");
-    }
-    for (const SphereCollider& c : s.spheres) {
-        check(finite(c.center) && std::isfinite(c.radius) && c.radius >= 0, "sphere collider invalid");
-    }
-    for (const BoxCollider& b : s.boxes) {
-        check(
-            finite(b.min) && finite(b.max) && b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z,
-            "box collider needs finite min <= max");
-    }
-    check(s.pool.nx >= 2 && s.pool.nx <= 4096 && s.pool.nz >= 2 && s.pool.nz <= 4096,
-          "pool nx, nz must be in [2, 4096]");
-}
-
 }  // namespace
 
 StreamSimulation::StreamSimulation(const SceneDesc& scene) : scene_(scene) {
-    validate(scene_);
+    validate_scene(scene_);
     if (scene_.pool.enabled) pool_ = std::make_unique<HeightFieldPool>(scene_.pool, scene_.dt);
 
     carry_.assign(scene_.emitters.size(), 0.0);

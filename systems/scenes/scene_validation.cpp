@@ -1,0 +1,67 @@
+#include "systems/scenes/scene_validation.h"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <stdexcept>
+
+#include "systems/io/text_parse.h"
+#include "systems/scenes/scene_limits.h"
+#include "systems/sim/sph_scenes.h"
+#include "systems/sim/sph_simulation.h"
+
+namespace rivulet {
+using io::number_text;
+
+void validate_scene(const SceneDesc& s, const std::string& origin) {
+    const std::string where = origin.empty() ? "scene '" + s.name + "'" : origin;
+    const auto check = [&](bool ok, const std::string& what) {
+        if (!ok) throw std::invalid_argument(where + ": " + what);
+    };
+    const auto got = [](double v) { return ", got " + number_text(v); };
+    check(s.warmup_frames >= 0 && s.warmup_frames <= kMaxWarmupFrames,
+          "warmup_frames must be in [0, " + std::to_string(kMaxWarmupFrames) + "]" + got(s.warmup_frames));
+    check(s.max_particles >= 1 && s.max_particles <= kMaxSceneParticles,
+          "max_particles must be in [1, " + std::to_string(kMaxSceneParticles) + "]" + got(s.max_particles));
+    check(std::isfinite(s.dt) && s.dt > 0 && s.dt <= 1, "dt must be in (0, 1]" + got(s.dt));
+    check(s.substeps >= 1 && s.substeps <= 64, "substeps must be in [1, 64]" + got(s.substeps));
+    check(std::isfinite(s.particle_radius) && s.particle_radius > 0,
+          "particle_radius must be positive" + got(s.particle_radius));
+    check(std::isfinite(s.lifetime) && s.lifetime > 0, "lifetime must be positive" + got(s.lifetime));
+    check(finite(s.gravity) && std::isfinite(s.ground_y), "gravity and ground_y must be finite");
+    check(std::isfinite(s.restitution) && s.restitution >= 0 && s.restitution <= 1,
+          "restitution must be in [0, 1]" + got(s.restitution));
+    check(std::isfinite(s.friction) && s.friction >= 0 && s.friction <= 1,
+          "friction must be in [0, 1]" + got(s.friction));
+    check(std::isfinite(s.v_min) && std::isfinite(s.v_max) && s.v_min < s.v_max, "need finite v_min < v_max");
+    check(finite(s.camera.eye) && finite(s.camera.target) && std::isfinite(s.camera.fov_y_deg) &&
+              s.camera.fov_y_deg > 0 && s.camera.fov_y_deg < 180,
+          "camera must be finite with fov_y_deg in (0, 180)");
+    check(finite(s.container_motion.amplitude) && std::isfinite(s.container_motion.frequency),
+          "container_motion must be finite");
+    for (const Emitter& e : s.emitters) {
+        check(finite(e.position) && finite(e.direction) && dot(e.direction, e.direction) > 0,
+              "emitter needs a finite position and a non-zero direction");
+        check(std::isfinite(e.speed) && std::isfinite(e.spread) && std::isfinite(e.nozzle_radius),
+              "emitter values must be finite");
+        check(e.spread >= 0 && e.spread <= std::numbers::pi_v<float> && e.nozzle_radius >= 0,
+              "emitter spread must be in [0, pi] and nozzle_radius >= 0");
+        check(std::isfinite(e.rate) && e.rate >= 0 && e.rate <= 1e9f,
+              "emitter rate must be in [0, 1e9]" + got(e.rate));
+    }
+    for (const SphereCollider& c : s.spheres)
+        check(finite(c.center) && std::isfinite(c.radius) && c.radius >= 0,
+              "sphere collider needs a finite center and a radius >= 0");
+    for (const BoxCollider& b : s.boxes)
+        check(
+            finite(b.min) && finite(b.max) && b.min.x <= b.max.x && b.min.y <= b.max.y && b.min.z <= b.max.z,
+            "box collider needs finite min <= max");
+    const std::string samples = "[2, " + std::to_string(kMaxPoolSamples) + "]";
+    check(s.pool.nx >= 2 && s.pool.nx <= kMaxPoolSamples, "pool.nx must be in " + samples + got(s.pool.nx));
+    check(s.pool.nz >= 2 && s.pool.nz <= kMaxPoolSamples, "pool.nz must be in " + samples + got(s.pool.nz));
+    if (s.simulation == SimulationKind::kSph)
+        if (const std::string problem = sph_desc_problem(sph_desc_of(s), s.max_particles); !problem.empty())
+            check(false, problem);
+}
+
+}  // namespace rivulet
