@@ -199,6 +199,15 @@ TEST(HostileInput, OptionErrorsAreOneLineWithTheUsageStatus) {
     EXPECT_EQ(contains(help.output, "--frames"), "");
 }
 
+TEST(HostileInput, PreallocationsThatGrowWithOptionsAreEstimatedAndRefused) {
+    // The cylinder pool of --max-groups 100000 would reserve 5.9 GiB: refused before any of it.
+    expect_one_error_line(run_cli("run --no-render --frames 1 --max-groups 100000"),
+                          "scan conversion buffers for --max-groups 100000, --u 20, --v 120");
+    expect_one_error_line(run_cli("run --no-render --frames 1 --max-groups 100000 --v 8192 --u 32"),
+                          "limit 4 GiB");
+    // A 2000-frame trace at 1024 threads asks for nothing up front (TraceCaptureGrowsWithWhatIsRecorded).
+}
+
 TEST(HostileInput, TraceCaptureGrowsWithWhatIsRecorded) {
     // 1024 threads and a cap of a million zones: nothing but the chunk tables until zones arrive.
     TraceRecorder big(1024);

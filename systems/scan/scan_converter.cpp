@@ -1,5 +1,6 @@
 #include "systems/scan/scan_converter.h"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -31,6 +32,21 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
         throw std::invalid_argument(
             "particles x cross-sections per particle reach 2^31 bin entries: lower --v or --radius");
     max_chunks_ = static_cast<std::uint32_t>((max_particles + kChunk - 1) / kChunk);
+    // Everything below and prepare_output reserve, estimated first: a pool far beyond memory (say
+    // --max-groups 100000) is refused with its cause instead of failing as std::bad_alloc.
+    const std::size_t max_row = (settings.max_groups + kGroupRowAlign - 1) / kGroupRowAlign * kGroupRowAlign;
+    const std::size_t max_pieces =
+        std::size_t(settings.max_groups) * ((settings.v + kRingsPerPiece - 1) / kRingsPerPiece);
+    const double bytes =
+        4.0 * (26.0 * double(entry_capacity_) + 6.0 * double(max_particles) +
+               2.0 * double(max_chunks_) * grid_.bins + 2.0 * bin_chunks() * double(max_row) +
+               2.0 * double(max_pieces) + 6.0 * double(settings.max_groups) * layout_.verts_per_cylinder());
+    if (bytes > double(kMaxScanBufferBytes))
+        throw std::invalid_argument(fmt::format(
+            "scan conversion buffers for --max-groups {}, --u {}, --v {} and {} particles would take {:.1f} "
+            "GiB (limit {} GiB): lower them",
+            settings.max_groups, settings.u, settings.v, max_particles, bytes / double(1 << 30),
+            kMaxScanBufferBytes >> 30));
 
     cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
     for (std::uint32_t k = 0; k < settings.u; ++k) {
@@ -54,14 +70,11 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     list_offsets_.reserve(settings.max_groups + 1);
     list_bin_.reserve(entry_capacity_), list_particle_.reserve(entry_capacity_);
     vmin_.reserve(settings.max_groups), vmax_.reserve(settings.max_groups);
-    const std::size_t max_row = (settings.max_groups + kGroupRowAlign - 1) / kGroupRowAlign * kGroupRowAlign;
     chunk_group_counts_.reserve(std::size_t(bin_chunks()) * max_row);
     chunk_group_cursors_.reserve(std::size_t(bin_chunks()) * max_row);
     chunk_isolated_.reserve(bin_chunks());
     circle_cx_.reserve(entry_capacity_), circle_cz_.reserve(entry_capacity_),
         circle_rho_.reserve(entry_capacity_);
-    const std::size_t max_pieces =
-        std::size_t(settings.max_groups) * ((settings.v + kRingsPerPiece - 1) / kRingsPerPiece);
     piece_group_.reserve(max_pieces), piece_first_.reserve(max_pieces);
 }
 

@@ -34,7 +34,11 @@ class ScanConverter {
     // Bins per chunk of the grouping's parallel passes over the bin table (spread, lists).
     static constexpr std::uint32_t kBinsPerChunk = 8;
 
-    // Throws std::invalid_argument when settings.validate() fails.
+    // The buffers one converter reserves (bins, groups, the cylinder pool's vertices) at most.
+    static constexpr std::uint64_t kMaxScanBufferBytes = std::uint64_t{4} << 30;
+
+    // Throws std::invalid_argument when settings.validate() fails or the buffers would exceed
+    // kMaxScanBufferBytes.
     ScanConverter(const ScanSettings& settings, std::size_t max_particles);
 
     const ScanSettings& settings() const { return settings_; }
