@@ -12,7 +12,6 @@
 
 #include "systems/particles/particle_hash.h"
 #include "systems/render/png_writer.h"
-#include "systems/scan/scan_mesh.h"
 
 namespace rivulet {
 namespace {
@@ -52,36 +51,13 @@ struct FramePipeline::PngRing {
     }
 };
 
-SurfaceMethod parse_surface_method(const std::string& name) {
-    if (name == "scan") return SurfaceMethod::kScan;
-    if (name == "slices") return SurfaceMethod::kSlices;
-    throw std::invalid_argument("unknown surface method '" + name + "': use 'scan' or 'slices'");
-}
-
-const char* surface_method_name(SurfaceMethod m) {
-    return m == SurfaceMethod::kScan ? "scan" : "slices";
-}
-
 FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& config)
     : scene_(scene), config_(config) {
     sim_ = std::make_unique<SceneSimulation>(scene_, config_.inputs);
-    ScanSettings s = config_.scan;
-    s.radius = scene_.particle_radius;
-    s.v_top = scene_.v_max;
-    s.v_bottom = scene_.v_min;
-    const bool slices = config_.method == SurfaceMethod::kSlices;
-    // The scan converter's pool is small when it is not the method: the renderer still wants a layout.
-    if (slices) s.max_groups = 1;
-    scan_ = std::make_unique<ScanConverter>(s, slices ? 1 : scene_.max_particles);
-    if (slices) {
-        SlicesSettings ss = config_.slices;
-        ss.radius = scene_.particle_radius;
-        slices_ = std::make_unique<SlicesExtractor>(ss, scene_.max_particles);
-        // Scratch for every thread that may run a block, so no frame allocates it later.
-        slices_->reserve_scratch(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
-    }
+    // Every thread that may run a job of the method gets its scratch now, so no frame allocates it later.
+    surface_ = make_surface_system({config_.method, config_.scan, config_.slices}, scene_,
+                                   static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
     for (FrameSlot& slot : slots_) {
-        scan_->prepare_output(slot.scan);
         const HeightFieldView pool = sim_->pool_view();
         slot.pool_heights.reserve(std::max<std::size_t>(pool.heights.size(), 1));
         slot.pool = pool;
@@ -96,7 +72,7 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
     if (config_.render) {
         renderer_ = std::make_unique<Renderer>(config_.size);
         renderer_->set_scene(scene_);
-        renderer_->set_cylinder_pool(scan_->layout(), scan_->settings().max_groups);
+        surface_->prepare_renderer(*renderer_);
         if (!config_.out_dir.empty()) {
             std::filesystem::create_directories(config_.out_dir);
             png_ = std::make_unique<PngRing>();
@@ -114,13 +90,8 @@ FramePipeline::~FramePipeline() = default;
 void FramePipeline::build_graph() {
     sim_end_ = sim_->add_jobs(graph_);
     const auto positions = [this] { return sim_->particles().positions(); };
-    const FrameGraph::JobId surface =
-        slices_ ? add_slices_jobs(graph_, *slices_, positions,
-                                  [this]() -> SurfaceMesh& { return slots_[target_slot_].mesh; }, {sim_end_})
-                      .stage
-                : add_scan_jobs(graph_, *scan_, positions,
-                                [this]() -> ScanOutput& { return slots_[target_slot_].scan; }, {sim_end_})
-                      .stage;
+    const FrameGraph::JobId surface = surface_->add_jobs(
+        graph_, positions, [this] { return target_slot_; }, sim_end_);
     // Hand-over data of the slot: pool heights copied (the simulation moves on), counters, hash.
     graph_.serial("upload_staging",
                   [this] {
@@ -130,9 +101,7 @@ void FramePipeline::build_graph() {
                       slot.particles = static_cast<std::uint32_t>(sim_->particles().size());
                       slot.frame = sim_->last_frame();
                       slot.inputs = sim_->last_inputs();
-                      if (config_.hash_frames)
-                          slot.hash = slices_ ? mesh_hash(slot.mesh.view())
-                                              : frame_output_hash(slot.scan, scan_->layout());
+                      if (config_.hash_frames) slot.hash = surface_->output_hash(target_slot_);
                       slot.particle_hash = config_.hash_frames ? particle_hash(sim_->particles()) : 0;
                   },
                   {surface});
@@ -157,15 +126,11 @@ void FramePipeline::finish_extract(int slot) {
     pending_ = {};
     pending_.frame = s.frame;
     pending_.particles = s.particles;
-    if (slices_) {
-        pending_.groups = slices_->blocks();
-        pending_.triangles = s.mesh.triangle_count();
-    } else {
-        pending_.groups = s.scan.draw_count;
-        pending_.isolated = s.scan.sphere_count;
-        pending_.triangles = s.scan.triangles;
-        pending_.pool_exhausted = s.scan.pool_exhausted;
-    }
+    const SurfaceStats stats = surface_->stats(slot);
+    pending_.groups = stats.groups;
+    pending_.isolated = stats.isolated;
+    pending_.triangles = stats.triangles;
+    pending_.pool_exhausted = stats.pool_exhausted;
     pending_.hash = s.hash;
     pending_.particle_hash = s.particle_hash;
     pending_.inputs = s.inputs;
@@ -175,7 +140,9 @@ void FramePipeline::finish_extract(int slot) {
 
 void FramePipeline::render(int slot, int frame_index) {
     if (!renderer_) return;
-    renderer_->render(slots_[slot].view(scene_.particle_radius));
+    FrameView view = slots_[slot].view(scene_.particle_radius);
+    surface_->fill_view(slot, view);
+    renderer_->render(view);
     if (!png_) return;
     auto& buf = png_->buffers[static_cast<std::size_t>(frame_index % PngRing::kBuffers)];
     buf.finish();  // the encode that last used this buffer

@@ -11,21 +11,14 @@
 
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/frame_slot.h"
-#include "runtime/lib/scan_jobs.h"
 #include "runtime/lib/scene_simulation.h"
-#include "runtime/lib/slices_jobs.h"
+#include "runtime/lib/surface_system.h"
 #include "runtime/lib/trace_recorder.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/renderer.h"
-#include "systems/scan/scan_converter.h"
 #include "systems/scenes/scene.h"
 
 namespace rivulet {
-
-enum class SurfaceMethod { kScan, kSlices };
-// "scan" or "slices"; throws std::invalid_argument naming both otherwise.
-SurfaceMethod parse_surface_method(const std::string& name);
-const char* surface_method_name(SurfaceMethod m);
 
 struct PipelineConfig {
     SurfaceMethod method = SurfaceMethod::kScan;
@@ -61,7 +54,7 @@ struct FrameRecord {
 
 class FramePipeline {
   public:
-    // Builds simulation, scan converter, slots, frame graph and (if config.render) the renderer on the
+    // Builds simulation, surface method, slots, frame graph and (if config.render) the renderer on the
     // calling thread, which becomes the render thread. Throws on invalid settings or GL failure.
     FramePipeline(const SceneDesc& scene, const PipelineConfig& config);
     ~FramePipeline();
@@ -76,7 +69,7 @@ class FramePipeline {
 
     const std::vector<FrameRecord>& records() const { return records_; }
     const FrameGraph& graph() const { return graph_; }
-    const ScanConverter& scan() const { return *scan_; }
+    const SurfaceSystem& surface() const { return *surface_; }
     const PipelineConfig& config() const { return config_; }
     const ParticleSet& particles() const { return sim_->particles(); }
     const FrameSlot& slot(int i) const { return slots_[i]; }
@@ -93,9 +86,8 @@ class FramePipeline {
     SceneDesc scene_;
     PipelineConfig config_;
     std::unique_ptr<SceneSimulation> sim_;
-    std::unique_ptr<ScanConverter> scan_;      // always built: the renderer's cylinder pool comes from it
-    std::unique_ptr<SlicesExtractor> slices_;  // method slices
-    std::array<FrameSlot, 2> slots_;
+    std::unique_ptr<SurfaceSystem> surface_;
+    std::array<FrameSlot, kFrameSlots> slots_;
     int target_slot_ = 0;
     FrameGraph graph_;
     FrameGraph::JobId sim_end_ = 0;

@@ -1,0 +1,39 @@
+#include "runtime/lib/scan_surface.h"
+
+#include "runtime/lib/scan_jobs.h"
+#include "systems/render/renderer.h"
+#include "systems/scan/scan_mesh.h"
+
+namespace rivulet {
+
+ScanSurface::ScanSurface(const ScanSettings& settings, std::size_t max_particles)
+    : converter_(settings, max_particles) {
+    for (ScanOutput& out : out_) converter_.prepare_output(out);
+}
+
+FrameGraph::JobId ScanSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
+                                        std::function<int()> slot, FrameGraph::JobId after) {
+    return add_scan_jobs(graph, converter_, std::move(positions),
+                         [this, slot = std::move(slot)]() -> ScanOutput& { return out_[slot()]; }, {after})
+        .stage;
+}
+
+SurfaceStats ScanSurface::stats(int slot) const {
+    const ScanOutput& s = out_[slot];
+    return {s.draw_count, s.sphere_count, s.triangles, s.pool_exhausted};
+}
+
+std::uint64_t ScanSurface::output_hash(int slot) const {
+    return frame_output_hash(out_[slot], converter_.layout());
+}
+
+void ScanSurface::prepare_renderer(Renderer& renderer) const {
+    renderer.set_cylinder_pool(converter_.layout(), converter_.settings().max_groups);
+}
+
+void ScanSurface::fill_view(int slot, FrameView& view) const {
+    view.cylinders = out_[slot].cylinder_view();
+    view.sphere_centers = out_[slot].sphere_view();
+}
+
+}  // namespace rivulet
