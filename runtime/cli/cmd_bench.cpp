@@ -14,6 +14,7 @@
 
 #include "cli/commands.h"
 #include "runtime/lib/bench_report.h"
+#include "runtime/lib/surface_system.h"
 #include "systems/io/io_limits.h"
 #include "systems/io/json_file.h"
 #include "systems/io/output_file.h"
@@ -103,6 +104,7 @@ int bench(const BenchOptions& o) {
     const std::vector<int> threads = thread_counts(o.threads);
     // Every scene is read and checked here, so a bad one fails before any case runs.
     for (const std::string& scene : scenes) resolve_scene(scene);
+    for (const std::string& method : methods) parse_surface_method(method);
     const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
     const std::string cases_dir = o.out + "/cases";
     std::filesystem::create_directories(cases_dir);

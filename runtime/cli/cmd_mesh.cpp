@@ -120,7 +120,7 @@ void add_mesh_command(CLI::App& app, int& status) {
         "mesh", "Extract a triangle mesh from particle files (.ply, .xyz, .vtk, or a {} pattern)");
     cmd->add_option("input", opts->input, "Particle file, or a sequence pattern such as frames/frame_{}.ply")
         ->required();
-    add_method_option(*cmd, opts->method);
+    add_method_option(*cmd, opts->method, false);
     cmd->add_option("--radius", opts->radius,
                     "Particle radius in world units (default: half the median neighbour distance)");
     add_threads_option(*cmd, opts->threads, "Threads (0 = all)");

@@ -5,6 +5,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
+#include "systems/render/screen_fluid.h"
 #include "systems/scan/scan_settings.h"
 #include "systems/scenes/scene.h"
 #include "systems/slices/slices_settings.h"
@@ -27,9 +28,9 @@ struct ScanOptions {
     ScanSettings resolve() const;
 };
 
-// The options every extracting command shares, each with its check: --method (scan or slices) and
-// --threads (0 = all hardware threads, at most 1024).
-void add_method_option(CLI::App& cmd, std::string& method);
+// The options every extracting command shares, each with its check: --method (scan or slices, and
+// screen where frames are rendered) and --threads (0 = all hardware threads, at most 1024).
+void add_method_option(CLI::App& cmd, std::string& method, bool rendered);
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help);
 
 // The scene options `run` and `simulate` share: --scene (built-in name or FILE.json), --frames in
@@ -48,6 +49,13 @@ struct SlicesOptions {
     float voxel = 0;
     std::uint32_t block = SlicesSettings{}.block_cubes;
     bool exhaustive = false;
+    void add_to(CLI::App& cmd);
+};
+
+// Options of the screen-space fluid method (--filter-iterations, --filter-radius); checked when the
+// pipeline is built.
+struct ScreenOptions {
+    ScreenFluidSettings settings;
     void add_to(CLI::App& cmd);
 };
 

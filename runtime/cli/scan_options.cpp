@@ -58,16 +58,30 @@ ScanSettings ScanOptions::resolve() const {
     return s;
 }
 
-void add_method_option(CLI::App& cmd, std::string& method) {
+void add_method_option(CLI::App& cmd, std::string& method, bool rendered) {
     cmd.add_option("--method", method,
-                   "Surface method: scan (sphere scan conversion) or slices (marching slices)")
+                   rendered
+                       ? "Surface method: scan (sphere scan conversion), slices (marching slices) or screen "
+                         "(screen-space fluid, drawn without a mesh)"
+                       : "Surface method: scan (sphere scan conversion) or slices (marching slices)")
         ->capture_default_str()
         ->check(CLI::Validator(
-            [](std::string& m) -> std::string {
-                if (m == "scan" || m == "slices") return {};
-                return fmt::format("'{}' is not a surface method: choose 'scan' or 'slices'", m);
+            [rendered](std::string& m) -> std::string {
+                if (m == "scan" || m == "slices" || (rendered && m == "screen")) return {};
+                if (m == "screen") return "'screen' draws the fluid and makes no mesh: use it with 'run'";
+                return fmt::format("'{}' is not a surface method: choose 'scan', 'slices'{}", m,
+                                   rendered ? " or 'screen'" : "");
             },
             "METHOD"));
+}
+
+void ScreenOptions::add_to(CLI::App& cmd) {
+    cmd.add_option("--filter-iterations", settings.filter_iterations,
+                   "Screen-space fluid: bilateral smoothing passes over the depth")
+        ->capture_default_str();
+    cmd.add_option("--filter-radius", settings.filter_radius,
+                   "Screen-space fluid: smoothing width in particle radii (the pixels follow depth)")
+        ->capture_default_str();
 }
 
 void SlicesOptions::add_to(CLI::App& cmd) {

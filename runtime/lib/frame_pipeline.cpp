@@ -55,7 +55,7 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
     : scene_(scene), config_(config) {
     sim_ = std::make_unique<SceneSimulation>(scene_, config_.inputs);
     // Every thread that may run a job of the method gets its scratch now, so no frame allocates it later.
-    surface_ = make_surface_system({config_.method, config_.scan, config_.slices}, scene_,
+    surface_ = make_surface_system({config_.method, config_.scan, config_.slices, config_.screen}, scene_,
                                    static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
     for (FrameSlot& slot : slots_) {
         const HeightFieldView pool = sim_->pool_view();

@@ -22,8 +22,9 @@ namespace rivulet {
 
 struct PipelineConfig {
     SurfaceMethod method = SurfaceMethod::kScan;
-    ScanSettings scan;         // v_top / v_bottom / radius are taken from the scene
-    SlicesSettings slices;     // radius is taken from the scene
+    ScanSettings scan;      // v_top / v_bottom / radius are taken from the scene
+    SlicesSettings slices;  // radius is taken from the scene
+    ScreenFluidSettings screen;
     bool render = true;        // false: extraction only (benchmarks, tests without GL)
     bool pipelined = true;     // false: extract then render, one after the other
     bool hash_frames = false;  // frame_output_hash per frame (determinism tests, replay)

@@ -9,6 +9,7 @@
 #include "systems/io/io_limits.h"
 #include "systems/io/json_file.h"
 #include "systems/io/output_file.h"
+#include "systems/render/screen_fluid_json.h"
 #include "systems/scan/scan_settings_json.h"
 #include "systems/scenes/scene_json.h"
 #include "systems/scenes/scene_limits.h"
@@ -48,8 +49,9 @@ void write_recording(const std::string& path, const Recording& r) {
     doc["version"] = kRecordingVersion;
     doc["scene"] = scene_to_json(r.scene);
     doc["method"] = surface_method_name(r.method);
-    doc["settings"] =
-        r.method == SurfaceMethod::kScan ? scan_settings_to_json(r.scan) : slices_settings_to_json(r.slices);
+    doc["settings"] = r.method == SurfaceMethod::kScan     ? scan_settings_to_json(r.scan)
+                      : r.method == SurfaceMethod::kSlices ? slices_settings_to_json(r.slices)
+                                                           : screen_fluid_settings_to_json(r.screen);
     json inputs = json::array();
     for (const FrameInputs& in : r.inputs)
         inputs.push_back(
@@ -95,8 +97,10 @@ Recording read_recording(const std::string& path) {
         r.method = parse_surface_method(doc.at("method").get<std::string>());
         if (r.method == SurfaceMethod::kScan) {
             r.scan = scan_settings_from_json(doc.at("settings"), where + ": settings");
-        } else {
+        } else if (r.method == SurfaceMethod::kSlices) {
             r.slices = slices_settings_from_json(doc.at("settings"), where + ": settings");
+        } else {
+            r.screen = screen_fluid_settings_from_json(doc.at("settings"), where + ": settings");
         }
         const json& inputs = doc.at("inputs");
         const json& frames = doc.at("frames");
@@ -136,6 +140,7 @@ Recording make_recording(const FramePipeline& pipeline, std::span<const FrameInp
     r.method = pipeline.config().method;
     r.scan = pipeline.config().scan;
     r.slices = pipeline.config().slices;
+    r.screen = pipeline.config().screen;
     r.inputs.assign(inputs.begin(), inputs.end());
     for (const FrameRecord& f : pipeline.records()) r.frames.push_back({f.particle_hash, f.hash});
     return r;

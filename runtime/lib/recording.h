@@ -28,8 +28,9 @@ struct RecordedFrame {
 struct Recording {
     SceneDesc scene;  // warm-up frames included (scene.warmup_frames)
     SurfaceMethod method = SurfaceMethod::kScan;
-    ScanSettings scan;  // settings of the method recorded (the other keeps its defaults)
+    ScanSettings scan;  // settings of the method recorded (the others keep their defaults)
     SlicesSettings slices;
+    ScreenFluidSettings screen;
     std::vector<FrameInputs> inputs;    // every simulated frame: warm-up frames first, then recorded ones
     std::vector<RecordedFrame> frames;  // recorded frames (after warm-up)
 };

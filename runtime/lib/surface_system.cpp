@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "runtime/lib/scan_surface.h"
+#include "runtime/lib/screen_surface.h"
 #include "runtime/lib/slices_surface.h"
 
 namespace rivulet {
@@ -10,11 +11,20 @@ namespace rivulet {
 SurfaceMethod parse_surface_method(const std::string& name) {
     if (name == "scan") return SurfaceMethod::kScan;
     if (name == "slices") return SurfaceMethod::kSlices;
-    throw std::invalid_argument("unknown surface method '" + name + "': use 'scan' or 'slices'");
+    if (name == "screen") return SurfaceMethod::kScreen;
+    throw std::invalid_argument("unknown surface method '" + name + "': use 'scan', 'slices' or 'screen'");
 }
 
 const char* surface_method_name(SurfaceMethod m) {
-    return m == SurfaceMethod::kScan ? "scan" : "slices";
+    switch (m) {
+        case SurfaceMethod::kScan:
+            return "scan";
+        case SurfaceMethod::kSlices:
+            return "slices";
+        case SurfaceMethod::kScreen:
+            return "screen";
+    }
+    return "?";
 }
 
 std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, const SceneDesc& scene,
@@ -32,6 +42,8 @@ std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, 
             s.radius = scene.particle_radius;
             return std::make_unique<SlicesSurface>(s, scene.max_particles, threads);
         }
+        case SurfaceMethod::kScreen:
+            return std::make_unique<ScreenSurface>(config.screen, scene.max_particles);
     }
     throw std::invalid_argument("unknown surface method");
 }

@@ -12,6 +12,7 @@
 #include "jobs/particle_spans.h"
 #include "runtime/lib/frame_graph.h"
 #include "systems/render/frame_view.h"
+#include "systems/render/screen_fluid.h"
 #include "systems/scan/scan_settings.h"
 #include "systems/scenes/scene.h"
 #include "systems/slices/slices_settings.h"
@@ -20,8 +21,8 @@ namespace rivulet {
 
 class Renderer;
 
-enum class SurfaceMethod { kScan, kSlices };
-// "scan" or "slices"; throws std::invalid_argument naming both otherwise.
+enum class SurfaceMethod { kScan, kSlices, kScreen };
+// "scan", "slices" or "screen"; throws std::invalid_argument naming them otherwise.
 SurfaceMethod parse_surface_method(const std::string& name);
 const char* surface_method_name(SurfaceMethod m);
 
@@ -57,6 +58,7 @@ struct SurfaceConfig {
     SurfaceMethod method = SurfaceMethod::kScan;
     ScanSettings scan;      // radius and V range are taken from the scene
     SlicesSettings slices;  // radius is taken from the scene
+    ScreenFluidSettings screen;
 };
 
 // Sized for the scene's max_particles and `threads` workers; throws std::invalid_argument on bad settings.

@@ -30,11 +30,18 @@ struct TriangleMeshView {
     std::span<const std::uint32_t> indices;
 };
 
+// Particle centres for the screen-space fluid pass, one array per coordinate.
+struct ParticleSpritesView {
+    std::span<const float> x, y, z;
+    std::size_t size() const { return x.size(); }
+};
+
 struct FrameView {
     CylinderFrameView cylinders;
     TriangleMeshView mesh;
     std::span<const float> sphere_centers;  // xyz per isolated particle, drawn as instanced low-res spheres
     float sphere_radius = 0;
+    ParticleSpritesView sprites;  // drawn by the screen-space fluid pass, as spheres of sphere_radius
     HeightFieldView pool;
 };
 

@@ -64,6 +64,10 @@ struct Renderer::Impl {
     GrowingBuffer sphere_instances;
     GLsizei sphere_index_count = 0;
 
+    std::unique_ptr<ScreenFluidPass> screen;
+    CameraDesc camera_desc;  // of the scene, for passes set up after it
+    Vec3f light{0, 1, 0};
+
     GLuint pool_vbo = 0, pool_ibo = 0, pool_vao = 0;
     int pool_nx = 0, pool_nz = 0;
     GLsizei pool_index_count = 0;
@@ -116,7 +120,9 @@ struct Renderer::Impl {
         Vec3f back = camera.eye - camera.target;
         back.y = 0;
         back = length(back) > 1e-6f ? normalize(back) : Vec3f{0, 0, 1};
-        const Vec3f light = normalize(Vec3f{0, 1, 0} + back * 0.6f + b.right * 0.35f);
+        light = normalize(Vec3f{0, 1, 0} + back * 0.6f + b.right * 0.35f);
+        camera_desc = camera;
+        if (screen) screen->set_camera(camera, light);
         glProgramUniformMatrix4fv(lit.id, lit.view_proj, 1, GL_FALSE, vp.m);
         glProgramUniform3f(lit.id, lit.eye, b.eye.x, b.eye.y, b.eye.z);
         glProgramUniform3f(lit.id, lit.light_dir, light.x, light.y, light.z);
@@ -177,6 +183,12 @@ struct Renderer::Impl {
         draw_counts.resize(draws);
         draw_offsets.resize(draws);
         draw_base_vertices.resize(draws);
+    }
+
+    void set_screen_fluid(const ScreenFluidSettings& settings) {
+        context.make_current();
+        screen = std::make_unique<ScreenFluidPass>(context.width(), context.height(), settings);
+        screen->set_camera(camera_desc, light);
     }
 
     void draw_sky() {
@@ -291,6 +303,7 @@ struct Renderer::Impl {
         draw_cylinders(frame.cylinders);
         draw_mesh(frame.mesh);
         draw_spheres(frame.sphere_centers, frame.sphere_radius);
+        if (screen) screen->render(frame.sprites, frame.sphere_radius);
         glBindVertexArray(0);
         glFinish();
 #ifndef NDEBUG
@@ -312,8 +325,17 @@ void Renderer::set_cylinder_pool(const CylinderLayout& layout, std::uint32_t max
     impl_->set_cylinder_pool(layout, max_cylinders);
 }
 
+void Renderer::set_screen_fluid(const ScreenFluidSettings& settings) {
+    impl_->set_screen_fluid(settings);
+}
+
 void Renderer::render(const FrameView& frame) {
     impl_->render(frame);
+}
+
+const ScreenFluidPass& Renderer::screen_fluid() const {
+    if (!impl_->screen) throw std::logic_error("Renderer::screen_fluid: no screen-space fluid pass");
+    return *impl_->screen;
 }
 
 int Renderer::width() const {

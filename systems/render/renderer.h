@@ -8,6 +8,7 @@
 
 #include "jobs/cylinder_layout.h"
 #include "systems/render/frame_view.h"
+#include "systems/render/screen_fluid.h"
 #include "systems/scenes/scene.h"
 
 namespace rivulet {
@@ -29,8 +30,13 @@ class Renderer {
     // Builds the shared cylinder index buffer (sent to GL once) and a vertex buffer for `max_cylinders`.
     void set_cylinder_pool(const CylinderLayout& layout, std::uint32_t max_cylinders);
 
+    // Sets up the screen-space fluid pass that draws a frame's sprites (once per run).
+    void set_screen_fluid(const ScreenFluidSettings& settings);
+
     // Uploads only the changed ranges of `frame` (rings [vmin, vmax] per group), draws, and finishes.
     void render(const FrameView& frame);
+    // The screen-space fluid pass of the last frame (tests); throws when there is none.
+    const ScreenFluidPass& screen_fluid() const;
 
     int width() const;
     int height() const;

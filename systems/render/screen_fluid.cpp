@@ -1,0 +1,381 @@
+#include "systems/render/screen_fluid.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include "systems/render/camera.h"
+#include "systems/render/gl.h"
+#include "systems/render/gl_buffer.h"
+#include "systems/render/gl_program.h"
+#include "systems/render/screen_fluid_shaders.h"
+#include "systems/render/shaders.h"
+
+namespace rivulet {
+
+std::string ScreenFluidSettings::validate() const {
+    if (filter_iterations < 0 || filter_iterations > 64)
+        return fmt::format("--filter-iterations must be in [0, 64], got {}", filter_iterations);
+    if (!(filter_radius > 0.0f && filter_radius <= 64.0f))
+        return fmt::format("--filter-radius must be in (0, 64] particle radii, got {}", filter_radius);
+    if (!(depth_sigma > 0.0f && depth_sigma <= 64.0f))
+        return fmt::format("depth sigma must be in (0, 64] particle radii, got {}", depth_sigma);
+    if (max_filter_pixels < 1 || max_filter_pixels > 128)
+        return fmt::format("max filter pixels must be in [1, 128], got {}", max_filter_pixels);
+    if (thickness_downsample < 1 || thickness_downsample > 8)
+        return fmt::format("thickness downsampling must be in [1, 8], got {}", thickness_downsample);
+    return {};
+}
+
+namespace {
+
+// The uniforms of kScreenCamera a program uses; -1 where the linker dropped one it does not use.
+struct CameraUniforms {
+    GLint eye = -1, forward = -1, right = -1, up = -1, half_extent = -1, view_proj = -1, viewport = -1;
+    void find(GLuint program) {
+        eye = glGetUniformLocation(program, "u_eye");
+        forward = glGetUniformLocation(program, "u_forward");
+        right = glGetUniformLocation(program, "u_right");
+        up = glGetUniformLocation(program, "u_up");
+        half_extent = glGetUniformLocation(program, "u_half_extent");
+        view_proj = glGetUniformLocation(program, "u_view_proj");
+        viewport = glGetUniformLocation(program, "u_viewport");
+    }
+};
+
+struct Program {
+    GLuint id = 0;
+    CameraUniforms camera;
+};
+
+Program build(std::initializer_list<const char*> vertex, std::initializer_list<const char*> fragment,
+              const char* name) {
+    const GLuint vs = compile_shader(GL_VERTEX_SHADER, vertex, std::string(name) + ".vert");
+    GLuint fs = 0;
+    try {
+        fs = compile_shader(GL_FRAGMENT_SHADER, fragment, std::string(name) + ".frag");
+    } catch (...) {
+        glDeleteShader(vs);
+        throw;
+    }
+    Program p;
+    p.id = link_program(vs, fs, name);
+    p.camera.find(p.id);
+    return p;
+}
+
+GLuint texture_2d(GLenum internal_format, int width, int height, GLenum filter) {
+    GLuint t = 0;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexStorage2D(GL_TEXTURE_2D, 1, internal_format, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return t;
+}
+
+GLuint framebuffer(GLuint color, GLuint depth) {
+    GLuint f = 0;
+    glGenFramebuffers(1, &f);
+    glBindFramebuffer(GL_FRAMEBUFFER, f);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
+    if (depth) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("ScreenFluidPass: a render target is incomplete");
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return f;
+}
+
+}  // namespace
+
+struct ScreenFluidPass::Impl {
+    ScreenFluidSettings settings;
+    int width, height, thick_w, thick_h;
+    Program depth, thickness, bilateral, composite;
+    GLint depth_radius = -1, thickness_radius = -1;
+    GLint bilateral_source = -1, bilateral_step = -1, bilateral_world_sigma = -1, bilateral_depth_sigma = -1,
+          bilateral_max_radius = -1;
+    GLint composite_depth = -1, composite_thickness = -1, composite_scene_color = -1,
+          composite_scene_depth = -1, composite_light = -1, composite_absorption = -1, composite_water = -1,
+          composite_refraction = -1, composite_near_far = -1;
+    GLuint depth_a = 0, depth_b = 0, depth_test = 0, thick = 0, scene_color = 0, scene_depth = 0;
+    GLuint depth_fbo = 0, fbo_a = 0, fbo_b = 0, thick_fbo = 0;
+    GrowingBuffer xs, ys, zs;
+    GLuint vao = 0;
+    CameraBasis basis;
+    float aspect = 1;
+
+    Impl(int w, int h, const ScreenFluidSettings& s)
+        : settings(s),
+          width(w),
+          height(h),
+          thick_w((w + s.thickness_downsample - 1) / s.thickness_downsample),
+          thick_h((h + s.thickness_downsample - 1) / s.thickness_downsample) {
+        if (const std::string problem = s.validate(); !problem.empty()) throw std::invalid_argument(problem);
+        using namespace shaders;
+        depth = build({kVersion, kScreenCamera, kSphereQuadVertex},
+                      {kFragmentPrelude, kScreenCamera, kSphereHit, kSphereDepthFragment}, "fluid_depth");
+        thickness =
+            build({kVersion, kScreenCamera, kSphereQuadVertex},
+                  {kFragmentPrelude, kScreenCamera, kSphereHit, kSphereThicknessFragment}, "fluid_thickness");
+        bilateral =
+            build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kBilateralFragment}, "bilateral");
+        composite =
+            build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kCompositeFragment}, "composite");
+        depth_radius = uniform_location(depth.id, "u_radius", "fluid_depth");
+        thickness_radius = uniform_location(thickness.id, "u_radius", "fluid_thickness");
+        bilateral_source = uniform_location(bilateral.id, "u_depth", "bilateral");
+        bilateral_step = uniform_location(bilateral.id, "u_step", "bilateral");
+        bilateral_world_sigma = uniform_location(bilateral.id, "u_world_sigma", "bilateral");
+        bilateral_depth_sigma = uniform_location(bilateral.id, "u_depth_sigma", "bilateral");
+        bilateral_max_radius = uniform_location(bilateral.id, "u_max_radius", "bilateral");
+        composite_depth = uniform_location(composite.id, "u_depth", "composite");
+        composite_thickness = uniform_location(composite.id, "u_thickness", "composite");
+        composite_scene_color = uniform_location(composite.id, "u_scene_color", "composite");
+        composite_scene_depth = uniform_location(composite.id, "u_scene_depth", "composite");
+        composite_light = uniform_location(composite.id, "u_light_dir", "composite");
+        composite_absorption = uniform_location(composite.id, "u_absorption", "composite");
+        composite_water = uniform_location(composite.id, "u_water_color", "composite");
+        composite_refraction = uniform_location(composite.id, "u_refraction", "composite");
+        composite_near_far = uniform_location(composite.id, "u_near_far", "composite");
+
+        depth_a = texture_2d(GL_R32F, w, h, GL_NEAREST);
+        depth_b = texture_2d(GL_R32F, w, h, GL_NEAREST);
+        depth_test = texture_2d(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
+        thick = texture_2d(GL_R32F, thick_w, thick_h, GL_LINEAR);
+        scene_color = texture_2d(GL_RGBA8, w, h, GL_LINEAR);
+        scene_depth = texture_2d(GL_DEPTH_COMPONENT24, w, h, GL_NEAREST);
+        depth_fbo = framebuffer(depth_a, depth_test);
+        // The smoothing targets share the depth pass's depth buffer: it tells which pixels hold fluid.
+        fbo_a = framebuffer(depth_a, depth_test);
+        fbo_b = framebuffer(depth_b, depth_test);
+        thick_fbo = framebuffer(thick, 0);
+
+        xs.create(), ys.create(), zs.create();
+        glGenVertexArrays(1, &vao);
+        glBindVertexArray(vao);
+        const GrowingBuffer* columns[3] = {&xs, &ys, &zs};
+        for (GLuint a = 0; a < 3; ++a) {
+            glBindVertexBuffer(a, columns[a]->id, 0, sizeof(float));
+            glVertexBindingDivisor(a, 1);
+            glEnableVertexAttribArray(a);
+            glVertexAttribFormat(a, 1, GL_FLOAT, GL_FALSE, 0);
+            glVertexAttribBinding(a, a);
+        }
+        glBindVertexArray(0);
+
+        // Fixed inputs of the composite: texture units 0-3, the water's look.
+        glProgramUniform1i(composite.id, composite_depth, 0);
+        glProgramUniform1i(composite.id, composite_thickness, 1);
+        glProgramUniform1i(composite.id, composite_scene_color, 2);
+        glProgramUniform1i(composite.id, composite_scene_depth, 3);
+        glProgramUniform3f(composite.id, composite_absorption, 9.0f, 3.5f, 1.6f);
+        glProgramUniform3f(composite.id, composite_water, 0.06f, 0.30f, 0.52f);
+        glProgramUniform1f(composite.id, composite_refraction, 0.25f);
+        glProgramUniform2f(composite.id, composite_near_far, kCameraNear, kCameraFar);
+        glProgramUniform1i(bilateral.id, bilateral_source, 0);
+        glProgramUniform1i(bilateral.id, bilateral_max_radius, s.max_filter_pixels);
+        check_gl("ScreenFluidPass setup");
+    }
+
+    ~Impl() {
+        for (GLuint p : {depth.id, thickness.id, bilateral.id, composite.id}) glDeleteProgram(p);
+        const GLuint textures[] = {depth_a, depth_b, depth_test, thick, scene_color, scene_depth};
+        glDeleteTextures(6, textures);
+        const GLuint fbos[] = {depth_fbo, fbo_a, fbo_b, thick_fbo};
+        glDeleteFramebuffers(4, fbos);
+        const GLuint buffers[] = {xs.id, ys.id, zs.id};
+        glDeleteBuffers(3, buffers);
+        glDeleteVertexArrays(1, &vao);
+    }
+
+    void set_camera(const CameraDesc& camera, Vec3f light) {
+        aspect = static_cast<float>(width) / static_cast<float>(height);
+        const Mat4 vp = view_projection(camera, aspect);
+        basis = camera_basis(camera);
+        const CameraBasis& b = basis;
+        for (const Program* p : {&depth, &thickness, &bilateral, &composite}) {
+            const CameraUniforms& u = p->camera;
+            glProgramUniform3f(p->id, u.eye, b.eye.x, b.eye.y, b.eye.z);
+            glProgramUniform3f(p->id, u.forward, b.forward.x, b.forward.y, b.forward.z);
+            glProgramUniform3f(p->id, u.right, b.right.x, b.right.y, b.right.z);
+            glProgramUniform3f(p->id, u.up, b.up.x, b.up.y, b.up.z);
+            glProgramUniform2f(p->id, u.half_extent, b.tan_half_fov_y * aspect, b.tan_half_fov_y);
+            glProgramUniformMatrix4fv(p->id, u.view_proj, 1, GL_FALSE, vp.m);
+        }
+        glProgramUniform3f(composite.id, composite_light, light.x, light.y, light.z);
+    }
+
+    void viewport(const Program& p, int w, int h) {
+        glViewport(0, 0, w, h);
+        glProgramUniform2f(p.id, p.camera.viewport, static_cast<float>(w), static_cast<float>(h));
+    }
+
+    void draw_spheres(const Program& p, std::size_t count) {
+        glUseProgram(p.id);
+        glBindVertexArray(vao);
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(count));
+    }
+
+    void full_screen(const Program& p) {
+        glUseProgram(p.id);
+        glBindVertexArray(vao);  // no attribute is read: the triangle comes from gl_VertexID
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+    // The pixels the spheres can cover (x0, y0, x1, y1), from each centre's projection widened by its
+    // projected radius: full-screen passes run inside it only.
+    std::array<int, 4> screen_bounds(const ParticleSpritesView& p, float radius) const {
+        const CameraBasis& b = basis;
+        const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
+        const float sx = half_w / (b.tan_half_fov_y * aspect), sy = half_h / b.tan_half_fov_y;
+        float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+        bool behind = false;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const Vec3f d = Vec3f{p.x[i], p.y[i], p.z[i]} - b.eye;
+            const float z = dot(d, b.forward);
+            if (z <= radius) {  // at or behind the eye: it may cover anything
+                behind = true;
+                break;
+            }
+            const float inv = 1.0f / (z - radius);
+            const float cx = dot(d, b.right) * sx / z, cy = dot(d, b.up) * sy / z;
+            const float rx = radius * 1.5f * sx * inv, ry = radius * 1.5f * sy * inv;
+            x0 = std::min(x0, cx - rx), x1 = std::max(x1, cx + rx);
+            y0 = std::min(y0, cy - ry), y1 = std::max(y1, cy + ry);
+        }
+        if (behind) return {0, 0, width, height};
+        const auto clamp_x = [&](float v) {
+            return static_cast<int>(std::clamp(v + half_w, 0.0f, float(width)));
+        };
+        const auto clamp_y = [&](float v) {
+            return static_cast<int>(std::clamp(v + half_h, 0.0f, float(height)));
+        };
+        return {clamp_x(std::floor(x0)), clamp_y(std::floor(y0)), clamp_x(std::ceil(x1) + 2),
+                clamp_y(std::ceil(y1) + 2)};
+    }
+
+    void render(const ParticleSpritesView& particles, float radius) {
+        const std::size_t n = particles.size();
+        if (n == 0 || radius <= 0) return;
+        if (particles.y.size() != n || particles.z.size() != n)
+            throw std::out_of_range("ScreenFluidPass::render: x, y and z differ in length");
+        xs.upload(particles.x.data(), n * sizeof(float));
+        ys.upload(particles.y.data(), n * sizeof(float));
+        zs.upload(particles.z.data(), n * sizeof(float));
+
+        // The scene behind: its colour for refraction and its depth for what stands in front of the water.
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_2D, scene_color);
+        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
+        glActiveTexture(GL_TEXTURE3);
+        glBindTexture(GL_TEXTURE_2D, scene_depth);
+        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
+
+        // Depth of the nearest sphere per pixel.
+        glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo);
+        viewport(depth, width, height);
+        glClearColor(0, 0, 0, 0);
+        glClearDepth(1.0);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_DEPTH_TEST);
+        glProgramUniform1f(depth.id, depth_radius, radius);
+        draw_spheres(depth, n);
+        glDisable(GL_DEPTH_TEST);
+
+        // Smoothing, ping-ponging between depth_a and depth_b; the result ends in depth_a. Only inside the
+        // fluid's bounds (depth_b is cleared once, so what lies outside stays background in both).
+        const std::array<int, 4> box = screen_bounds(particles, radius);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_b);
+        glClear(GL_COLOR_BUFFER_BIT);
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_GREATER);
+        glDepthMask(GL_FALSE);
+        glActiveTexture(GL_TEXTURE0);
+        viewport(bilateral, width, height);
+        glProgramUniform1f(bilateral.id, bilateral_world_sigma, settings.filter_radius * radius);
+        glProgramUniform1f(bilateral.id, bilateral_depth_sigma, settings.depth_sigma * radius);
+        for (int i = 0; i < settings.filter_iterations; ++i) {
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo_b);
+            glBindTexture(GL_TEXTURE_2D, depth_a);
+            glProgramUniform2i(bilateral.id, bilateral_step, 1, 0);
+            full_screen(bilateral);
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo_a);
+            glBindTexture(GL_TEXTURE_2D, depth_b);
+            glProgramUniform2i(bilateral.id, bilateral_step, 0, 1);
+            full_screen(bilateral);
+        }
+
+        // Thickness: every sphere's chord, summed.
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo);
+        viewport(thickness, thick_w, thick_h);
+        glClear(GL_COLOR_BUFFER_BIT);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+        glProgramUniform1f(thickness.id, thickness_radius, radius);
+        draw_spheres(thickness, n);
+        glDisable(GL_BLEND);
+
+        // Composite over the picture.
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        viewport(composite, width, height);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, depth_a);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, thick);
+        glDepthMask(GL_FALSE);
+        glEnable(GL_SCISSOR_TEST);
+        full_screen(composite);
+        glDisable(GL_SCISSOR_TEST);
+        glDepthMask(GL_TRUE);
+        glEnable(GL_DEPTH_TEST);
+        glActiveTexture(GL_TEXTURE0);
+        glBindVertexArray(0);
+    }
+
+    void read(ScreenFluidBuffer which, std::span<float> out) const {
+        const bool thin = which == ScreenFluidBuffer::kThickness;
+        const int w = thin ? thick_w : width, h = thin ? thick_h : height;
+        if (out.size() < std::size_t(w) * std::size_t(h))
+            throw std::invalid_argument("ScreenFluidPass::read: buffer too small");
+        // The raw depth is overwritten by smoothing: only readable as such without filter passes.
+        if (which == ScreenFluidBuffer::kRawDepth && settings.filter_iterations > 0)
+            throw std::logic_error("ScreenFluidPass::read: the raw depth is smoothed in place");
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, thin ? thick_fbo : fbo_a);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, out.data());
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    }
+};
+
+ScreenFluidPass::ScreenFluidPass(int width, int height, const ScreenFluidSettings& settings)
+    : impl_(std::make_unique<Impl>(width, height, settings)) {}
+ScreenFluidPass::~ScreenFluidPass() = default;
+
+void ScreenFluidPass::set_camera(const CameraDesc& camera, Vec3f light_dir) {
+    impl_->set_camera(camera, light_dir);
+}
+void ScreenFluidPass::render(const ParticleSpritesView& particles, float radius) {
+    impl_->render(particles, radius);
+}
+void ScreenFluidPass::read(ScreenFluidBuffer which, std::span<float> out) const {
+    impl_->read(which, out);
+}
+int ScreenFluidPass::thickness_width() const {
+    return impl_->thick_w;
+}
+int ScreenFluidPass::thickness_height() const {
+    return impl_->thick_h;
+}
+
+}  // namespace rivulet

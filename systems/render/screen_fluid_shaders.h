@@ -1,0 +1,23 @@
+#pragma once
+// GLSL 4.50 sources of the screen-space fluid passes (van der Laan, Green & Sainz 2009; seed 004 §3.1).
+// A program is the concatenation: vertex stages kVersion + kScreenCamera + stage, fragment stages
+// kFragmentPrelude (version and sky colour) + kScreenCamera + stage; kFullScreenVertex stands alone.
+
+namespace rivulet::shaders {
+
+extern const char* const kVersion;
+extern const char* const kScreenCamera;
+
+// Particles as camera-facing quads (instanced, 4 vertices each; attributes 0-2 read x, y, z per instance).
+extern const char* const kSphereQuadVertex;
+// Ray-sphere intersection per pixel, shared by the two sphere passes.
+extern const char* const kSphereHit;
+extern const char* const kSphereDepthFragment;
+extern const char* const kSphereThicknessFragment;
+
+// Full-screen triangle from gl_VertexID.
+extern const char* const kFullScreenVertex;
+extern const char* const kBilateralFragment;
+extern const char* const kCompositeFragment;
+
+}  // namespace rivulet::shaders

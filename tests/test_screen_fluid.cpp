@@ -1,0 +1,274 @@
+// Screen-space fluid (seed 004 §3.1) on real pixels: the depth of the sphere pass against ray-sphere
+// depth in double precision, the thickness of a column of k spheres against 2 r k, smoothing against a
+// jittered sheet, the background outside the fluid untouched, and the same picture at 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <vector>
+
+#include "jobs/counter_rng.h"
+#include "runtime/lib/frame_pipeline.h"
+#include "runtime/lib/thread_control.h"
+#include "support/test_support.h"
+#include "systems/render/camera.h"
+#include "systems/render/renderer.h"
+#include "systems/scenes/scene.h"
+
+namespace rivulet {
+namespace {
+
+constexpr int kW = 256, kH = 192;
+
+SceneDesc facing_scene() {
+    SceneDesc s;
+    s.camera.eye = {0, 0.5f, 3};
+    s.camera.target = {0, 0.5f, 0};
+    s.camera.fov_y_deg = 40;
+    return s;
+}
+
+struct Particles {
+    std::vector<float> x, y, z;
+    void add(Vec3f p) { x.push_back(p.x), y.push_back(p.y), z.push_back(p.z); }
+    ParticleSpritesView view() const { return {x, y, z}; }
+};
+
+struct Hit {
+    double depth = 0;  // along the view axis; 0 when the ray misses
+    double chord = 0;  // length of the ray inside the sphere
+};
+
+// Where the ray through the centre of pixel (i, j) of a w x h target (row j from the bottom) meets the
+// sphere, in double precision.
+Hit analytic_hit(const CameraDesc& cam, int i, int j, Vec3f c, double r, int w = kW, int h = kH) {
+    const CameraBasis b = camera_basis(cam);
+    const double hx = double(b.tan_half_fov_y) * kW / kH, hy = b.tan_half_fov_y;
+    const double nx = (i + 0.5) / w * 2 - 1, ny = (j + 0.5) / h * 2 - 1;
+    double ray[3], oc[3];
+    const float* f = &b.forward.x;
+    const float* rt = &b.right.x;
+    const float* up = &b.up.x;
+    const float* e = &b.eye.x;
+    const float* cc = &c.x;
+    for (int a = 0; a < 3; ++a)
+        ray[a] = f[a] + nx * hx * rt[a] + ny * hy * up[a], oc[a] = double(e[a]) - cc[a];
+    const double A = ray[0] * ray[0] + ray[1] * ray[1] + ray[2] * ray[2];
+    const double B = ray[0] * oc[0] + ray[1] * oc[1] + ray[2] * oc[2];
+    const double C = oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2] - r * r;
+    const double disc = B * B - A * C;
+    if (disc <= 0) return {};
+    return {(-B - std::sqrt(disc)) / A, 2 * std::sqrt(disc) / A * std::sqrt(A)};
+}
+
+double analytic_depth(const CameraDesc& cam, int i, int j, Vec3f c, double r) {
+    return analytic_hit(cam, i, j, c, r).depth;
+}
+
+std::vector<float> read(const Renderer& r, ScreenFluidBuffer which) {
+    const ScreenFluidPass& pass = r.screen_fluid();
+    const bool thin = which == ScreenFluidBuffer::kThickness;
+    std::vector<float> out(std::size_t(thin ? pass.thickness_width() : kW) *
+                           (thin ? pass.thickness_height() : kH));
+    pass.read(which, out);
+    return out;
+}
+
+std::unique_ptr<Renderer> make_renderer(const ScreenFluidSettings& settings) {
+    auto r = std::make_unique<Renderer>(RenderSettings{kW, kH});
+    r->set_scene(facing_scene());
+    r->set_screen_fluid(settings);
+    return r;
+}
+
+void draw(Renderer& r, const Particles& p, float radius) {
+    FrameView v;
+    v.sphere_radius = radius;
+    v.sprites = p.view();
+    r.render(v);
+}
+
+}  // namespace
+
+TEST(ScreenFluid, SphereDepthMatchesTheAnalyticSphere) {
+    ScreenFluidSettings s;
+    s.filter_iterations = 0;
+    auto r_owner = make_renderer(s);
+    Renderer& r = *r_owner;
+    const Vec3f c{0.1f, 0.55f, 0.2f};
+    const float radius = 0.25f;
+    Particles p;
+    p.add(c);
+    draw(r, p, radius);
+    const std::vector<float> depth = read(r, ScreenFluidBuffer::kRawDepth);
+    int inside = 0, outside = 0;
+    for (int j = 0; j < kH; j += 3) {
+        for (int i = 0; i < kW; i += 3) {
+            const double want = analytic_depth(facing_scene().camera, i, j, c, radius);
+            const float got = depth[std::size_t(j) * kW + i];
+            // Pixels right on the outline may go either way; elsewhere hit and miss must agree.
+            const double near_edge = analytic_depth(facing_scene().camera, i, j, c, radius * 0.98) == 0 &&
+                                     analytic_depth(facing_scene().camera, i, j, c, radius * 1.02) > 0;
+            if (near_edge) continue;
+            if (want > 0) {
+                ++inside;
+                EXPECT_NEAR(got, want, 1e-3) << "pixel " << i << ", " << j;
+            } else {
+                ++outside;
+                EXPECT_EQ(got, 0.0f) << "pixel " << i << ", " << j;
+            }
+        }
+    }
+    EXPECT_GT(inside, 150);
+    EXPECT_GT(outside, 1000);
+}
+
+TEST(ScreenFluid, ThicknessOfAColumnGrowsLinearlyWithItsLayers) {
+    // k touching spheres one behind the other on the camera's axis: the ray through the centre pixel
+    // crosses k chords, each the analytic chord of its sphere.
+    const float radius = 0.05f;
+    const CameraDesc cam = facing_scene().camera;
+    double one_layer = 0;
+    for (int k = 1; k <= 4; ++k) {
+        auto r_owner = make_renderer({});
+        Renderer& r = *r_owner;
+        Particles p;
+        for (int i = 0; i < k; ++i) p.add({0, 0.5f, -2.0f * radius * float(i)});
+        draw(r, p, radius);
+        const std::vector<float> t = read(r, ScreenFluidBuffer::kThickness);
+        const int tw = r.screen_fluid().thickness_width(), th = r.screen_fluid().thickness_height();
+        const float centre = t[std::size_t(th / 2) * tw + tw / 2];
+        double want = 0;
+        for (int i = 0; i < k; ++i)
+            want +=
+                analytic_hit(cam, tw / 2, th / 2, {0, 0.5f, -2.0f * radius * float(i)}, radius, tw, th).chord;
+        EXPECT_NEAR(centre, want, 1e-4 * k) << k << " layers";
+        if (k == 1) one_layer = centre;
+        EXPECT_NEAR(centre, k * one_layer, 0.02 * k * one_layer) << k << " layers";
+    }
+}
+
+TEST(ScreenFluid, SmoothingFlattensAJitteredSheetWithoutBleeding) {
+    // A sheet facing the camera at z = 0, particles jittered by up to r / 2 in depth.
+    const float radius = 0.04f;
+    Particles p;
+    for (int iy = 0; iy < 20; ++iy)
+        for (int ix = 0; ix < 20; ++ix) {
+            const std::uint64_t id = std::uint64_t(iy) * 20 + ix;
+            const float jitter = (counter_uniform(7, 0, id, 0) - 0.5f) * radius;
+            p.add({-0.4f + 0.04f * float(ix), 0.1f + 0.04f * float(iy), jitter});
+        }
+    const auto interior_spread = [&](const std::vector<float>& d) {
+        // Standard deviation over the sheet's inner pixels (away from its edges).
+        double sum = 0, sum2 = 0;
+        int n = 0;
+        for (int j = kH / 2 - 20; j < kH / 2 + 20; ++j)
+            for (int i = kW / 2 - 20; i < kW / 2 + 20; ++i) {
+                const double v = d[std::size_t(j) * kW + i];
+                if (v <= 0) continue;
+                sum += v, sum2 += v * v, ++n;
+            }
+        EXPECT_GT(n, 1000);
+        const double mean = sum / n;
+        return std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+    };
+    ScreenFluidSettings raw;
+    raw.filter_iterations = 0;
+    auto r0_owner = make_renderer(raw);
+    Renderer& r0 = *r0_owner;
+    draw(r0, p, radius);
+    const std::vector<float> before = read(r0, ScreenFluidBuffer::kRawDepth);
+    ScreenFluidSettings smooth;
+    smooth.filter_iterations = 2;
+    auto r1_owner = make_renderer(smooth);
+    Renderer& r1 = *r1_owner;
+    draw(r1, p, radius);
+    const std::vector<float> after = read(r1, ScreenFluidBuffer::kSmoothedDepth);
+    EXPECT_LT(interior_spread(after), 0.5 * interior_spread(before));
+    // No bleeding: a pixel without fluid before smoothing has none after.
+    for (std::size_t k = 0; k < before.size(); ++k)
+        if (before[k] == 0.0f) {
+            ASSERT_EQ(after[k], 0.0f) << "pixel " << k % kW << ", " << k / kW;
+        }
+}
+
+TEST(ScreenFluid, PixelsWithoutFluidKeepTheSceneExactly) {
+    auto plain_owner = make_renderer({});
+    Renderer& plain = *plain_owner;
+    draw(plain, {}, 0.05f);
+    std::vector<std::uint8_t> background(std::size_t(kW) * kH * 4), water(background.size());
+    plain.read_rgba(background);
+    auto r_owner = make_renderer({});
+    Renderer& r = *r_owner;
+    Particles p;
+    p.add({0, 0.5f, 0});
+    draw(r, p, 0.1f);
+    r.read_rgba(water);
+    // The sphere covers the centre; pixels away from it are the background's bytes.
+    float px = 0, py = 0;
+    ASSERT_TRUE(project_to_pixel(facing_scene().camera, kW, kH, {0, 0.5f, 0}, px, py));
+    // The sphere's outline is about 8.8 pixels from its centre here.
+    std::size_t changed_inside = 0, inside = 0, changed_outside = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const std::size_t k = (std::size_t(y) * kW + x) * 4;
+            const bool same = std::equal(&water[k], &water[k] + 4, &background[k]);
+            const float d = std::hypot(float(x) + 0.5f - px, float(y) + 0.5f - py);
+            if (d > 40) changed_outside += same ? 0 : 1;
+            if (d < 7) changed_inside += same ? 0 : 1, ++inside;
+        }
+    EXPECT_EQ(changed_outside, 0u);
+    EXPECT_GT(inside, 120u);
+    EXPECT_EQ(changed_inside, inside);
+}
+
+TEST(ScreenFluid, FramePicturesAreTheSameBytesAtOneAndTwoThreads) {
+    std::vector<std::vector<std::uint8_t>> pictures;
+    for (int threads : {1, 2}) {
+        ThreadControl control(threads);
+        PipelineConfig config;
+        config.method = SurfaceMethod::kScreen;
+        config.size = {160, 90};
+        SceneDesc scene = make_builtin_scene("fountain");
+        scene.warmup_frames = 40;
+        FramePipeline pipeline(scene, config);
+        pipeline.warmup();
+        pipeline.run(2);
+        pictures.emplace_back(std::size_t(160) * 90 * 4);
+        pipeline.renderer()->read_rgba(pictures.back());
+    }
+    EXPECT_TRUE(pictures[0] == pictures[1]);
+}
+
+}  // namespace rivulet
+
+namespace rivulet {
+
+TEST(ScreenFluid, RunRecordsAndReplaysTheScreenMethod) {
+    using rivulet::test::run_cli;
+    const std::string out = rivulet::test::temp_path("screen-frames"),
+                      rec = rivulet::test::temp_path("screen.rivrec");
+    const auto r = run_cli("run --method screen --frames 3 --warmup 30 --threads 2 --size 160x90 --out " +
+                           out + " --record " + rec);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("screen.stage"), std::string::npos) << r.output;
+    EXPECT_TRUE(std::ifstream(out + "/frame_00002.png").good());
+    const auto replay = run_cli("replay " + rec + " --threads 1");
+    EXPECT_EQ(replay.status, 0) << replay.output;
+}
+
+TEST(ScreenFluid, BadScreenOptionsAreClearErrors) {
+    using rivulet::test::run_cli;
+    auto r = run_cli("run --method screen --frames 1 --no-render --filter-iterations -1");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("--filter-iterations must be in [0, 64], got -1"), std::string::npos) << r.output;
+    r = run_cli("run --method screen --frames 1 --no-render --filter-radius 0");
+    EXPECT_NE(r.output.find("--filter-radius"), std::string::npos) << r.output;
+    r = run_cli("mesh x.xyz --method screen");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("use it with 'run'"), std::string::npos) << r.output;
+}
+
+}  // namespace rivulet
