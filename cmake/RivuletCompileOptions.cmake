@@ -14,8 +14,19 @@ if(RIVULET_SANITIZE STREQUAL "address")
 elseif(RIVULET_SANITIZE STREQUAL "thread")
   target_compile_options(rivulet_options INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
   target_link_options(rivulet_options INTERFACE -fsanitize=thread)
+elseif(RIVULET_SANITIZE STREQUAL "fuzz")
+  # ASan+UBSan as above, plus libFuzzer's coverage hooks in every library so the fuzzer sees the readers'
+  # branches; only the fuzz targets link libFuzzer's main (tests/fuzz, docs/fuzzing.md).
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "RIVULET_SANITIZE=fuzz needs Clang (libFuzzer): configure with CC=clang CXX=clang++")
+  endif()
+  # A Release build keeps line tables (cheap next to -g) so that crash stacks name file and line.
+  target_compile_options(rivulet_options INTERFACE -fsanitize=address,undefined,fuzzer-no-link
+                         -fno-sanitize=vptr -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+                         $<$<CONFIG:Release,MinSizeRel>:-gline-tables-only>)
+  target_link_options(rivulet_options INTERFACE -fsanitize=address,undefined -fno-sanitize=vptr)
 elseif(NOT RIVULET_SANITIZE STREQUAL "")
-  message(FATAL_ERROR "RIVULET_SANITIZE must be '', 'address' or 'thread'")
+  message(FATAL_ERROR "RIVULET_SANITIZE must be '', 'address', 'thread' or 'fuzz'")
 endif()
 
 # Sources of one folder library: every .cpp under it (one responsibility per file, so lists would only churn).

@@ -177,7 +177,7 @@ RIVULET_INLINE void accumulate_body(std::span<const float> p, std::span<const st
     }
 }
 
-RIVULET_AVX2 [[gnu::flatten]] void accumulate_avx2(std::span<const float> p,
+[[gnu::flatten]] RIVULET_AVX2 void accumulate_avx2(std::span<const float> p,
                                                    std::span<const std::uint32_t> tri, std::span<float> acc) {
     accumulate_body<8>(p, tri, acc);
 }

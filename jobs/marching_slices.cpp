@@ -427,7 +427,7 @@ BlockSweepStats march_block_baseline(const SliceGrid& g, std::uint32_t bi, std::
 }
 
 // flatten: the body's lambdas and the column kernel are inlined here, so they are built for AVX2 too.
-RIVULET_AVX2 [[gnu::flatten]] static BlockSweepStats march_block_avx2(
+[[gnu::flatten]] RIVULET_AVX2 static BlockSweepStats march_block_avx2(
     const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk, float iso,
     const LookupCacheView& cache, ConstPositions particles, const SliceScratch& s, const BlockMeshOut& out,
     bool exhaustive, unsigned empty_neighbours, const SharedFaces& shared) {

@@ -20,7 +20,9 @@ RIVULET_INLINE std::uint32_t weld_one(std::uint32_t v, const BlockVertexMap& map
 RIVULET_INLINE bool any_lane(VectorLanes<4>::i m) {
     return _mm_movemask_ps(reinterpret_cast<__m128>(m)) != 0;
 }
-RIVULET_INLINE bool any_lane(VectorLanes<8>::i m) {  // the halves or'ed: an SSE movemask suffices
+// By reference: a 32-byte vector passed by value to a function without the AVX target changes the ABI
+// (clang's -Wpsabi), although it is always inlined into the AVX2 build.
+RIVULET_INLINE bool any_lane(const VectorLanes<8>::i& m) {  // the halves or'ed: an SSE movemask suffices
     return any_lane(__builtin_shufflevector(m, m, 0, 1, 2, 3) | __builtin_shufflevector(m, m, 4, 5, 6, 7));
 }
 #else
@@ -59,7 +61,7 @@ RIVULET_INLINE void weld_body(std::span<const std::uint32_t> local, const BlockV
     for (; t < count; ++t) out[t] = weld_one(local[t], map);
 }
 
-RIVULET_AVX2 [[gnu::flatten]] void weld_avx2(std::span<const std::uint32_t> local, const BlockVertexMap& map,
+[[gnu::flatten]] RIVULET_AVX2 void weld_avx2(std::span<const std::uint32_t> local, const BlockVertexMap& map,
                                              std::span<std::uint32_t> out) {
     weld_body<8>(local, map, out);
 }

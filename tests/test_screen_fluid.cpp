@@ -109,8 +109,8 @@ TEST(ScreenFluid, SphereDepthMatchesTheAnalyticSphere) {
             const double want = analytic_depth(facing_scene().camera, i, j, c, radius);
             const float got = depth[std::size_t(j) * kW + i];
             // Pixels right on the outline may go either way; elsewhere hit and miss must agree.
-            const double near_edge = analytic_depth(facing_scene().camera, i, j, c, radius * 0.98) == 0 &&
-                                     analytic_depth(facing_scene().camera, i, j, c, radius * 1.02) > 0;
+            const bool near_edge = analytic_depth(facing_scene().camera, i, j, c, radius * 0.98) == 0 &&
+                                   analytic_depth(facing_scene().camera, i, j, c, radius * 1.02) > 0;
             if (near_edge) continue;
             if (want > 0) {
                 ++inside;
