@@ -15,7 +15,7 @@ using namespace rivulet;
 
 TEST(FrameGraph, NestedJobsRunEveryItemOfEveryCallAndAreTracedAsJobs) {
     ThreadControl control(2);
-    TraceRecorder recorder(2, 4096);
+    TraceRecorder recorder(2);
     FrameGraph graph;
     std::vector<int> out(64, 0);
     FrameGraph::JobId nested = 0;

@@ -214,7 +214,8 @@ TEST(HostileInput, TraceCaptureGrowsWithWhatIsRecorded) {
     EXPECT_EQ(big.allocated_zones(), 0u);
     const std::uint16_t name = big.intern("job");
     big.record(name, 0, -1, 0, 1);
-    EXPECT_EQ(big.allocated_zones(), kTraceChunkZones);
+    EXPECT_EQ(big.allocated_zones(), big.chunk_zones());
+    EXPECT_EQ(big.chunk_zones(), kMaxTraceZones / 4096);  // a quarter of each thread's share
 
     // The cap counts zones of all threads; beyond it zones are dropped and counted, not stored.
     TraceRecorder capped(2, kTraceChunkZones + 10);
@@ -223,6 +224,10 @@ TEST(HostileInput, TraceCaptureGrowsWithWhatIsRecorded) {
     EXPECT_EQ(capped.zones().size(), kTraceChunkZones + 10);
     EXPECT_EQ(capped.dropped(), 90u);
     EXPECT_EQ(capped.allocated_zones(), kTraceChunkZones + 10);
+
+    // A small cap still leaves every thread room: chunks shrink to a quarter of a thread's share.
+    TraceRecorder small(2, 4096);
+    EXPECT_EQ(small.chunk_zones(), 512u);
 }
 
 namespace {

@@ -13,10 +13,12 @@ namespace rivulet {
 TraceRecorder::TraceRecorder(std::size_t threads, std::size_t max_zones)
     : epoch_(std::chrono::steady_clock::now()),
       max_zones_(max_zones),
+      chunk_zones_(
+          std::clamp<std::size_t>(max_zones / (4 * std::max<std::size_t>(threads, 1)), 1, kTraceChunkZones)),
       zones_left_(max_zones),
       buffers_(std::max<std::size_t>(threads, 1)) {
     // Chunks can come out short only at the very end of the budget, so one thread never needs more.
-    const std::size_t chunks = (max_zones + kTraceChunkZones - 1) / kTraceChunkZones + 1;
+    const std::size_t chunks = (max_zones + chunk_zones_ - 1) / chunk_zones_ + 1;
     for (Buffer& b : buffers_) b.chunks.reserve(chunks);
 }
 
@@ -24,7 +26,7 @@ bool TraceRecorder::grow(Buffer& b) {
     std::size_t left = zones_left_.load(std::memory_order_relaxed);
     std::size_t take = 0;
     do {
-        take = std::min(left, kTraceChunkZones);
+        take = std::min(left, chunk_zones_);
         if (take == 0) return false;
     } while (!zones_left_.compare_exchange_weak(left, left - take, std::memory_order_relaxed));
     b.chunks.push_back({std::make_unique_for_overwrite<TraceZone[]>(take), take, 0});

@@ -45,6 +45,9 @@ class TraceRecorder {
 
     std::size_t threads() const { return buffers_.size(); }
     std::size_t max_zones() const { return max_zones_; }
+    // Zones a thread claims at a time: kTraceChunkZones, less where a small cap must leave every thread
+    // some (a quarter of its share).
+    std::size_t chunk_zones() const { return chunk_zones_; }
     // Zones the chunks allocated so far can hold (all threads).
     std::size_t allocated_zones() const { return max_zones_ - zones_left_.load(std::memory_order_relaxed); }
     std::size_t dropped() const;
@@ -66,6 +69,7 @@ class TraceRecorder {
     std::chrono::steady_clock::time_point epoch_;
     std::vector<std::string> names_;
     std::size_t max_zones_;
+    std::size_t chunk_zones_;
     std::atomic<std::size_t> zones_left_;
     std::vector<Buffer> buffers_;
 };
