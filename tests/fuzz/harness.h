@@ -34,8 +34,8 @@ std::string write_scratch(std::string_view name, const std::uint8_t* data, std::
 // The handlers are listed one by one, deliberately without a catch of std::exception: std::bad_alloc and
 // std::length_error (a reader sized something by what the header claims, not by the bytes present) then
 // find no handler, so std::terminate runs at the throw itself and the crash report's stack shows the
-// allocation that asked for too much. Everything else the brief of issue 21 names as an expected
-// outcome (the project's FileFormatError and RecordingError are std::runtime_error) must carry a message.
+// allocation that asked for too much. The expected errors (the project's FileFormatError and
+// RecordingError are std::runtime_error) must carry a message.
 template <class Read>
 auto read_or_reject(Read&& read) -> std::optional<decltype(read())> {
     auto need_message = [](const std::exception& e) {

@@ -3,9 +3,10 @@
 #   tests/fuzz/run_fuzzers.sh BUILD_DIR SECONDS         each target for SECONDS (CI: 30)
 #   tests/fuzz/run_fuzzers.sh BUILD_DIR --runs N        each target for N executions (long run: 10000000)
 #   ... [--only fuzz_a,fuzz_b]                          a subset
-# Per target: first its checked-in regressions (tests/fuzz/regressions/<name>/, each input once), then
-# fuzzing from the seed corpus (tests/fuzz/corpus/<name>/, read only) and BUILD_DIR/fuzz/<name>/corpus,
-# where new inputs go and stay for the next run; a failing input is saved in BUILD_DIR/fuzz/<name>/.
+# Per target fuzz_<name>: first its checked-in regressions (tests/fuzz/regressions/<name>/, each input
+# once), then fuzzing from the seed corpus (tests/fuzz/corpus/<name>/, read only) and
+# BUILD_DIR/fuzz/fuzz_<name>/corpus, where new inputs go and stay for the next run; a failing input is
+# saved in BUILD_DIR/fuzz/fuzz_<name>/.
 # Fails (exit 1) if any target crashes, hangs, leaks or allocates over the caps below.
 set -euo pipefail
 
@@ -52,7 +53,7 @@ report() {
     awk '/^Running: /{l=$0} END{if (l) print l}' "$1"
     grep -m2 -E 'ERROR: |fuzz finding|terminate called|runtime error|what\(\)' "$1" || true
     # the stack from the frame that failed, without the signal handler's and libFuzzer's own frames
-    grep -E '^ +#[0-9]+ ' "$1" | grep -vE 'in (__sanitizer_|fuzzer::|__pthread_kill|raise|abort|__libc_start|_start)|libc\.so' |
+    grep -E '^ +#[0-9]+ ' "$1" | grep -vE 'in (__sanitizer|__asan|__lsan|__ubsan|__interceptor|fuzzer::|__pthread_kill|raise|abort|__libc_start|_start)|libc\.so' |
       head -10 || true
     grep -E 'Test unit written' "$1" || true
   } | cut -c1-200 | sed 's/^/  /'
