@@ -131,8 +131,10 @@ TEST(ScreenFluid, ThicknessOfAColumnGrowsLinearlyWithItsLayers) {
     const float radius = 0.05f;
     const CameraDesc cam = facing_scene().camera;
     double one_layer = 0;
+    ScreenFluidSettings unblurred;
+    unblurred.thickness_blur = 0;
     for (int k = 1; k <= 4; ++k) {
-        auto r_owner = make_renderer({});
+        auto r_owner = make_renderer(unblurred);
         Renderer& r = *r_owner;
         Particles p;
         for (int i = 0; i < k; ++i) p.add({0, 0.5f, -2.0f * radius * float(i)});
@@ -150,48 +152,172 @@ TEST(ScreenFluid, ThicknessOfAColumnGrowsLinearlyWithItsLayers) {
     }
 }
 
-TEST(ScreenFluid, SmoothingFlattensAJitteredSheetWithoutBleeding) {
-    // A sheet facing the camera at z = 0, particles jittered by up to r / 2 in depth.
-    const float radius = 0.04f;
+// A sheet facing the camera at z = z0, particles jittered by up to r / 2 in depth.
+Particles jittered_sheet(float radius, float z0 = 0) {
     Particles p;
     for (int iy = 0; iy < 20; ++iy)
         for (int ix = 0; ix < 20; ++ix) {
             const std::uint64_t id = std::uint64_t(iy) * 20 + ix;
             const float jitter = (counter_uniform(7, 0, id, 0) - 0.5f) * radius;
-            p.add({-0.4f + 0.04f * float(ix), 0.1f + 0.04f * float(iy), jitter});
+            p.add({-0.4f + 0.04f * float(ix), 0.1f + 0.04f * float(iy), z0 + jitter});
         }
-    const auto interior_spread = [&](const std::vector<float>& d) {
-        // Standard deviation over the sheet's inner pixels (away from its edges).
-        double sum = 0, sum2 = 0;
-        int n = 0;
-        for (int j = kH / 2 - 20; j < kH / 2 + 20; ++j)
-            for (int i = kW / 2 - 20; i < kW / 2 + 20; ++i) {
-                const double v = d[std::size_t(j) * kW + i];
-                if (v <= 0) continue;
-                sum += v, sum2 += v * v, ++n;
-            }
-        EXPECT_GT(n, 1000);
-        const double mean = sum / n;
-        return std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-    };
+    return p;
+}
+
+// Standard deviation of the depth over the sheet's inner pixels (away from its edges).
+double interior_spread(const std::vector<float>& d) {
+    double sum = 0, sum2 = 0;
+    int n = 0;
+    for (int j = kH / 2 - 20; j < kH / 2 + 20; ++j)
+        for (int i = kW / 2 - 20; i < kW / 2 + 20; ++i) {
+            const double v = d[std::size_t(j) * kW + i];
+            if (v <= 0) continue;
+            sum += v, sum2 += v * v, ++n;
+        }
+    EXPECT_GT(n, 1000);
+    const double mean = sum / n;
+    return std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+}
+
+class EachDepthFilter : public ::testing::TestWithParam<DepthSmoothing> {};
+
+TEST_P(EachDepthFilter, FlattensAJitteredSheetWithoutBleeding) {
+    const float radius = 0.04f;
+    const Particles p = jittered_sheet(radius);
     ScreenFluidSettings raw;
     raw.filter_iterations = 0;
     auto r0_owner = make_renderer(raw);
-    Renderer& r0 = *r0_owner;
-    draw(r0, p, radius);
-    const std::vector<float> before = read(r0, ScreenFluidBuffer::kRawDepth);
+    draw(*r0_owner, p, radius);
+    const std::vector<float> before = read(*r0_owner, ScreenFluidBuffer::kRawDepth);
     ScreenFluidSettings smooth;
-    smooth.filter_iterations = 2;
+    smooth.smoothing = GetParam();
+    smooth.filter_iterations = default_filter_iterations(GetParam());
     auto r1_owner = make_renderer(smooth);
-    Renderer& r1 = *r1_owner;
-    draw(r1, p, radius);
-    const std::vector<float> after = read(r1, ScreenFluidBuffer::kSmoothedDepth);
-    EXPECT_LT(interior_spread(after), 0.5 * interior_spread(before));
-    // No bleeding: a pixel without fluid before smoothing has none after.
-    for (std::size_t k = 0; k < before.size(); ++k)
-        if (before[k] == 0.0f) {
-            ASSERT_EQ(after[k], 0.0f) << "pixel " << k % kW << ", " << k / kW;
+    draw(*r1_owner, p, radius);
+    const std::vector<float> after = read(*r1_owner, ScreenFluidBuffer::kSmoothedDepth);
+    // The sheet's depth spread at least halves: the particles' bumps are smoothed away.
+    EXPECT_LT(interior_spread(after), 0.5 * interior_spread(before)) << depth_smoothing_name(GetParam());
+    // No bleeding: a pixel without fluid before smoothing has none after, and the other way round.
+    for (std::size_t k = 0; k < before.size(); ++k) {
+        ASSERT_EQ(before[k] == 0.0f, after[k] == 0.0f) << "pixel " << k % kW << ", " << k / kW;
+    }
+    // The sheet stays where it was: its mean depth moves by less than a tenth of a radius.
+    double mean_before = 0, mean_after = 0;
+    int n = 0;
+    for (int j = kH / 2 - 20; j < kH / 2 + 20; ++j)
+        for (int i = kW / 2 - 20; i < kW / 2 + 20; ++i) {
+            const std::size_t k = std::size_t(j) * kW + i;
+            if (before[k] > 0) mean_before += before[k], mean_after += after[k], ++n;
         }
+    EXPECT_NEAR(mean_after / n, mean_before / n, 0.1 * radius);
+}
+
+TEST_P(EachDepthFilter, KeepsASheetFarBehindAnotherApart) {
+    // Two flat sheets, 10 radii apart in depth, the near one covering the left half of the far one:
+    // pixels of either sheet next to the step keep their own sheet's depth.
+    const float radius = 0.04f;
+    Particles p;
+    for (int iy = 0; iy < 20; ++iy)
+        for (int ix = 0; ix < 20; ++ix) {
+            p.add({-0.4f + 0.04f * float(ix), 0.1f + 0.04f * float(iy), -10 * radius});
+            if (ix < 10) p.add({-0.4f + 0.04f * float(ix), 0.1f + 0.04f * float(iy), 0});
+        }
+    ScreenFluidSettings raw;
+    raw.filter_iterations = 0;
+    auto r0_owner = make_renderer(raw);
+    draw(*r0_owner, p, radius);
+    const std::vector<float> before = read(*r0_owner, ScreenFluidBuffer::kRawDepth);
+    ScreenFluidSettings smooth;
+    smooth.smoothing = GetParam();
+    smooth.filter_iterations = default_filter_iterations(GetParam());
+    auto r1_owner = make_renderer(smooth);
+    draw(*r1_owner, p, radius);
+    const std::vector<float> after = read(*r1_owner, ScreenFluidBuffer::kSmoothedDepth);
+    int checked = 0;
+    for (int j = kH / 2 - 10; j < kH / 2 + 10; ++j)
+        for (int i = 1; i + 1 < kW; ++i) {
+            const std::size_t k = std::size_t(j) * kW + i;
+            const float l = before[k - 1], r = before[k + 1];
+            // Pixels within a few pixels of the step between the sheets.
+            if (!(l > 0 && r > 0 && std::abs(l - r) > 5 * radius)) continue;
+            for (int o = -4; o <= 4; ++o) {
+                const std::size_t q = k + o;
+                EXPECT_NEAR(after[q], before[q], 1.5 * radius)
+                    << depth_smoothing_name(GetParam()) << " at " << i + o;
+                ++checked;
+            }
+        }
+    EXPECT_GT(checked, 100);
+}
+
+INSTANTIATE_TEST_SUITE_P(ScreenFluid, EachDepthFilter,
+                         ::testing::Values(DepthSmoothing::kBilateral, DepthSmoothing::kCurvatureFlow,
+                                           DepthSmoothing::kNarrowRange),
+                         [](const auto& param) {
+                             std::string name = depth_smoothing_name(param.param);
+                             std::replace(name.begin(), name.end(), '-', '_');
+                             return name;
+                         });
+
+// Pixels (along x) over which the smoothed depth of a sheet with a one-radius step at x = 0 climbs from
+// a quarter to three quarters of the step, averaged over the middle rows; the sheet at distance `d`.
+double smoothed_step_width(float d) {
+    const float radius = 0.04f;
+    const float z0 = facing_scene().camera.eye.z - d;
+    Particles p;
+    for (int iy = 0; iy < 40; ++iy)
+        for (int ix = 0; ix < 60; ++ix) {
+            const float x = -0.6f + 0.02f * float(ix);
+            p.add({x, 0.1f + 0.02f * float(iy), x < 0 ? z0 : z0 - radius});
+        }
+    auto r = make_renderer({});
+    draw(*r, p, radius);
+    const std::vector<float> depth = read(*r, ScreenFluidBuffer::kSmoothedDepth);
+    std::vector<double> profile(kW, 0.0);
+    for (int j = kH / 2 - 10; j < kH / 2 + 10; ++j)
+        for (int i = 0; i < kW; ++i) profile[i] += depth[std::size_t(j) * kW + i] / 20.0;
+    // Read the sheet from 0.3 units left of the step to 0.3 right of it, away from its outer edges.
+    float px = 0, py = 0, left = 0, right = 0;
+    EXPECT_TRUE(project_to_pixel(facing_scene().camera, kW, kH, {0, 0.5f, z0}, px, py));
+    EXPECT_TRUE(project_to_pixel(facing_scene().camera, kW, kH, {-0.3f, 0.5f, z0}, left, py));
+    EXPECT_TRUE(project_to_pixel(facing_scene().camera, kW, kH, {0.3f, 0.5f, z0}, right, py));
+    const int centre = int(px), reach = int(std::min(px - left, right - px));
+    const double near = profile[centre - reach], far = profile[centre + reach];
+    EXPECT_NEAR(far - near, radius, 0.2 * radius);
+    const auto crossing = [&](double level) {
+        for (int i = centre - reach; i < centre + reach; ++i)
+            if (profile[i + 1] >= level && profile[i] < level)
+                return i + (level - profile[i]) / (profile[i + 1] - profile[i]);
+        ADD_FAILURE() << "the profile never crosses " << level;
+        return 0.0;
+    };
+    return crossing(near + 0.75 * (far - near)) - crossing(near + 0.25 * (far - near));
+}
+
+TEST(ScreenFluid, FilterWidthFollowsDepth) {
+    // The filter's sigma is a world length, so a sheet twice as far has its step smoothed over half
+    // the pixels. A filter of fixed pixel width would leave the far step at least ~0.8 of the near one.
+    const double near = smoothed_step_width(2.5f), far = smoothed_step_width(5.0f);
+    EXPECT_GT(near, 4.0);
+    EXPECT_NEAR(far / near, 0.5, 0.12) << near << " px near, " << far << " px far";
+}
+
+TEST(ScreenFluid, ThicknessBlurKeepsTheTotalAndLowersThePeak) {
+    const float radius = 0.05f;
+    Particles p;
+    p.add({0, 0.5f, 0});
+    double total[2], peak[2];
+    for (int blurred = 0; blurred < 2; ++blurred) {
+        ScreenFluidSettings s;
+        s.thickness_blur = blurred ? 2.0f : 0.0f;
+        auto r = make_renderer(s);
+        draw(*r, p, radius);
+        const std::vector<float> t = read(*r, ScreenFluidBuffer::kThickness);
+        total[blurred] = 0, peak[blurred] = 0;
+        for (float v : t) total[blurred] += v, peak[blurred] = std::max(peak[blurred], double(v));
+    }
+    EXPECT_NEAR(total[1], total[0], 1e-3 * total[0]);
+    EXPECT_LT(peak[1], 0.95 * peak[0]);
 }
 
 TEST(ScreenFluid, PixelsWithoutFluidKeepTheSceneExactly) {
@@ -263,9 +389,13 @@ TEST(ScreenFluid, BadScreenOptionsAreClearErrors) {
     using rivulet::test::run_cli;
     auto r = run_cli("run --method screen --frames 1 --no-render --filter-iterations -1");
     EXPECT_NE(r.status, 0);
-    EXPECT_NE(r.output.find("--filter-iterations must be in [0, 64], got -1"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--filter-iterations must be in [0, 256], got -1"), std::string::npos)
+        << r.output;
     r = run_cli("run --method screen --frames 1 --no-render --filter-radius 0");
     EXPECT_NE(r.output.find("--filter-radius"), std::string::npos) << r.output;
+    r = run_cli("run --method screen --frames 1 --no-render --depth-filter blur");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("'blur' is not a depth filter"), std::string::npos) << r.output;
     r = run_cli("mesh x.xyz --method screen");
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.output.find("use it with 'run'"), std::string::npos) << r.output;

@@ -52,10 +52,11 @@ struct SlicesOptions {
     void add_to(CLI::App& cmd);
 };
 
-// Options of the screen-space fluid method (--filter-iterations, --filter-radius); checked when the
-// pipeline is built.
+// Options of the screen-space fluid method (--depth-filter, --filter-iterations, --filter-radius); checked
+// when the pipeline is built.
 struct ScreenOptions {
     ScreenFluidSettings settings;
+    bool iterations_given = false;
     void add_to(CLI::App& cmd);
 };
 

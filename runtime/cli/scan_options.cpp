@@ -76,9 +76,32 @@ void add_method_option(CLI::App& cmd, std::string& method, bool rendered) {
 }
 
 void ScreenOptions::add_to(CLI::App& cmd) {
-    cmd.add_option("--filter-iterations", settings.filter_iterations,
-                   "Screen-space fluid: bilateral smoothing passes over the depth")
-        ->capture_default_str();
+    // Each smoothing has its own default number of passes unless --filter-iterations names one, in
+    // whichever order the two options come.
+    cmd.add_option_function<std::string>(
+           "--depth-filter",
+           [this](const std::string& name) {
+               parse_depth_smoothing(name, settings.smoothing);
+               if (!iterations_given)
+                   settings.filter_iterations = default_filter_iterations(settings.smoothing);
+           },
+           "Screen-space fluid: how the depth is smoothed: narrow-range (default), bilateral or "
+           "curvature-flow")
+        ->check(CLI::Validator(
+            [](std::string& name) -> std::string {
+                DepthSmoothing s;
+                if (parse_depth_smoothing(name, s)) return {};
+                return fmt::format(
+                    "'{}' is not a depth filter: choose narrow-range, bilateral or curvature-flow", name);
+            },
+            "SMOOTHING"));
+    cmd.add_option_function<int>(
+        "--filter-iterations",
+        [this](int n) {
+            settings.filter_iterations = n;
+            iterations_given = true;
+        },
+        "Screen-space fluid: smoothing passes over the depth (filters: 1; curvature flow: 40)");
     cmd.add_option("--filter-radius", settings.filter_radius,
                    "Screen-space fluid: smoothing width in particle radii (the pixels follow depth)")
         ->capture_default_str();

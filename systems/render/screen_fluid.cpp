@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
@@ -15,17 +16,54 @@
 
 namespace rivulet {
 
+const char* depth_smoothing_name(DepthSmoothing s) {
+    switch (s) {
+        case DepthSmoothing::kBilateral:
+            return "bilateral";
+        case DepthSmoothing::kCurvatureFlow:
+            return "curvature-flow";
+        case DepthSmoothing::kNarrowRange:
+            return "narrow-range";
+    }
+    return "?";
+}
+
+bool parse_depth_smoothing(std::string_view text, DepthSmoothing& out) {
+    for (DepthSmoothing s :
+         {DepthSmoothing::kBilateral, DepthSmoothing::kCurvatureFlow, DepthSmoothing::kNarrowRange}) {
+        if (text == depth_smoothing_name(s)) {
+            out = s;
+            return true;
+        }
+    }
+    return false;
+}
+
+int default_filter_iterations(DepthSmoothing s) {
+    return s == DepthSmoothing::kCurvatureFlow ? 40 : 1;
+}
+
 std::string ScreenFluidSettings::validate() const {
-    if (filter_iterations < 0 || filter_iterations > 64)
-        return fmt::format("--filter-iterations must be in [0, 64], got {}", filter_iterations);
+    if (smoothing != DepthSmoothing::kBilateral && smoothing != DepthSmoothing::kCurvatureFlow &&
+        smoothing != DepthSmoothing::kNarrowRange)
+        return "--depth-filter must be bilateral, curvature-flow or narrow-range";
+    if (filter_iterations < 0 || filter_iterations > kMaxIterations)
+        return fmt::format("--filter-iterations must be in [0, {}], got {}", kMaxIterations,
+                           filter_iterations);
     if (!(filter_radius > 0.0f && filter_radius <= 64.0f))
         return fmt::format("--filter-radius must be in (0, 64] particle radii, got {}", filter_radius);
     if (!(depth_sigma > 0.0f && depth_sigma <= 64.0f))
         return fmt::format("depth sigma must be in (0, 64] particle radii, got {}", depth_sigma);
     if (max_filter_pixels < 1 || max_filter_pixels > 128)
         return fmt::format("max filter pixels must be in [1, 128], got {}", max_filter_pixels);
+    if (max_filter_taps < 1 || max_filter_taps > 128)
+        return fmt::format("max filter taps must be in [1, 128], got {}", max_filter_taps);
+    if (fill_holes < 0 || fill_holes > 8)
+        return fmt::format("hole filling must be in [0, 8] pixels, got {}", fill_holes);
     if (thickness_downsample < 1 || thickness_downsample > 8)
         return fmt::format("thickness downsampling must be in [1, 8], got {}", thickness_downsample);
+    if (!(thickness_blur >= 0.0f && thickness_blur <= 16.0f))
+        return fmt::format("thickness blur must be in [0, 16] pixels, got {}", thickness_blur);
     return {};
 }
 
@@ -90,24 +128,64 @@ GLuint framebuffer(GLuint color, GLuint depth) {
     return f;
 }
 
+// Uniform locations of one smoothing program; -1 for those it does not have.
+struct SmoothingUniforms {
+    GLint step = -1, world_sigma = -1, max_radius = -1, max_taps = -1, depth_sigma = -1, threshold = -1,
+          clamp = -1, jump = -1, max_step = -1, iterations = -1;
+    void find(GLuint p) {
+        step = glGetUniformLocation(p, "u_step");
+        world_sigma = glGetUniformLocation(p, "u_world_sigma");
+        max_radius = glGetUniformLocation(p, "u_max_radius");
+        max_taps = glGetUniformLocation(p, "u_max_taps");
+        depth_sigma = glGetUniformLocation(p, "u_depth_sigma");
+        threshold = glGetUniformLocation(p, "u_threshold");
+        clamp = glGetUniformLocation(p, "u_clamp");
+        jump = glGetUniformLocation(p, "u_jump");
+        max_step = glGetUniformLocation(p, "u_max_step");
+        iterations = glGetUniformLocation(p, "u_iterations");
+    }
+};
+
+Program build_smoothing(DepthSmoothing s) {
+    using namespace shaders;
+    switch (s) {
+        case DepthSmoothing::kBilateral:
+            return build({kFullScreenVertex},
+                         {kFragmentPrelude, kScreenCamera, kFilterWidth, kBilateralFragment}, "bilateral");
+        case DepthSmoothing::kNarrowRange:
+            return build({kFullScreenVertex},
+                         {kFragmentPrelude, kScreenCamera, kFilterWidth, kNarrowRangeFragment},
+                         "narrow_range");
+        case DepthSmoothing::kCurvatureFlow:
+            return build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kCurvatureFlowFragment},
+                         "curvature_flow");
+    }
+    throw std::invalid_argument("ScreenFluidPass: unknown depth smoothing");
+}
+
+using Clock = std::chrono::steady_clock;
+
 }  // namespace
 
 struct ScreenFluidPass::Impl {
     ScreenFluidSettings settings;
     int width, height, thick_w, thick_h;
-    Program depth, thickness, bilateral, composite;
+    Program depth, thickness, close_holes, smoothing, thickness_blur, composite;
+    SmoothingUniforms smooth_u;
     GLint depth_radius = -1, thickness_radius = -1;
-    GLint bilateral_source = -1, bilateral_step = -1, bilateral_world_sigma = -1, bilateral_depth_sigma = -1,
-          bilateral_max_radius = -1;
-    GLint composite_depth = -1, composite_thickness = -1, composite_scene_color = -1,
-          composite_scene_depth = -1, composite_light = -1, composite_absorption = -1, composite_water = -1,
-          composite_refraction = -1, composite_near_far = -1;
-    GLuint depth_a = 0, depth_b = 0, depth_test = 0, thick = 0, scene_color = 0, scene_depth = 0;
-    GLuint depth_fbo = 0, fbo_a = 0, fbo_b = 0, thick_fbo = 0;
+    GLint blur_step = -1, blur_sigma = -1, close_holes_jump = -1, close_holes_gap = -1;
+    GLint composite_light = -1, composite_absorption = -1, composite_water = -1,
+          composite_has_environment = -1;
+    GLuint depth_a = 0, depth_b = 0, depth_test = 0, thick = 0, thick_b = 0, scene_color = 0, scene_depth = 0;
+    GLuint fbo_a = 0, fbo_b = 0, thick_fbo = 0, thick_fbo_b = 0;
+    GLuint smoothed_fbo = 0, smoothed_texture = 0;  // where the last frame's smoothing ended
+    GLuint environment = 0;
     GrowingBuffer xs, ys, zs;
     GLuint vao = 0;
     CameraBasis basis;
     float aspect = 1;
+    ScreenFluidTimings timings;
+    Clock::time_point mark_time;
 
     Impl(int w, int h, const ScreenFluidSettings& s)
         : settings(s),
@@ -122,38 +200,36 @@ struct ScreenFluidPass::Impl {
         thickness =
             build({kVersion, kScreenCamera, kSphereQuadVertex},
                   {kFragmentPrelude, kScreenCamera, kSphereHit, kSphereThicknessFragment}, "fluid_thickness");
-        bilateral =
-            build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kBilateralFragment}, "bilateral");
+        close_holes =
+            build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kCloseHolesFragment}, "close_holes");
+        smoothing = build_smoothing(s.smoothing);
+        thickness_blur = build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kThicknessBlurFragment},
+                               "thickness_blur");
         composite =
             build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kCompositeFragment}, "composite");
         depth_radius = uniform_location(depth.id, "u_radius", "fluid_depth");
         thickness_radius = uniform_location(thickness.id, "u_radius", "fluid_thickness");
-        bilateral_source = uniform_location(bilateral.id, "u_depth", "bilateral");
-        bilateral_step = uniform_location(bilateral.id, "u_step", "bilateral");
-        bilateral_world_sigma = uniform_location(bilateral.id, "u_world_sigma", "bilateral");
-        bilateral_depth_sigma = uniform_location(bilateral.id, "u_depth_sigma", "bilateral");
-        bilateral_max_radius = uniform_location(bilateral.id, "u_max_radius", "bilateral");
-        composite_depth = uniform_location(composite.id, "u_depth", "composite");
-        composite_thickness = uniform_location(composite.id, "u_thickness", "composite");
-        composite_scene_color = uniform_location(composite.id, "u_scene_color", "composite");
-        composite_scene_depth = uniform_location(composite.id, "u_scene_depth", "composite");
+        smooth_u.find(smoothing.id);
+        blur_step = uniform_location(thickness_blur.id, "u_step", "thickness_blur");
+        blur_sigma = uniform_location(thickness_blur.id, "u_sigma", "thickness_blur");
         composite_light = uniform_location(composite.id, "u_light_dir", "composite");
         composite_absorption = uniform_location(composite.id, "u_absorption", "composite");
         composite_water = uniform_location(composite.id, "u_water_color", "composite");
-        composite_refraction = uniform_location(composite.id, "u_refraction", "composite");
-        composite_near_far = uniform_location(composite.id, "u_near_far", "composite");
+        composite_has_environment = uniform_location(composite.id, "u_has_environment", "composite");
 
         depth_a = texture_2d(GL_R32F, w, h, GL_NEAREST);
         depth_b = texture_2d(GL_R32F, w, h, GL_NEAREST);
         depth_test = texture_2d(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
         thick = texture_2d(GL_R32F, thick_w, thick_h, GL_LINEAR);
+        thick_b = texture_2d(GL_R32F, thick_w, thick_h, GL_NEAREST);
         scene_color = texture_2d(GL_RGBA8, w, h, GL_LINEAR);
         scene_depth = texture_2d(GL_DEPTH_COMPONENT24, w, h, GL_NEAREST);
-        depth_fbo = framebuffer(depth_a, depth_test);
         // The smoothing targets share the depth pass's depth buffer: it tells which pixels hold fluid.
         fbo_a = framebuffer(depth_a, depth_test);
         fbo_b = framebuffer(depth_b, depth_test);
         thick_fbo = framebuffer(thick, 0);
+        thick_fbo_b = framebuffer(thick_b, 0);
+        smoothed_fbo = fbo_a, smoothed_texture = depth_a;
 
         xs.create(), ys.create(), zs.create();
         glGenVertexArrays(1, &vao);
@@ -168,29 +244,57 @@ struct ScreenFluidPass::Impl {
         }
         glBindVertexArray(0);
 
-        // Fixed inputs of the composite: texture units 0-3, the water's look.
-        glProgramUniform1i(composite.id, composite_depth, 0);
-        glProgramUniform1i(composite.id, composite_thickness, 1);
-        glProgramUniform1i(composite.id, composite_scene_color, 2);
-        glProgramUniform1i(composite.id, composite_scene_depth, 3);
-        glProgramUniform3f(composite.id, composite_absorption, 9.0f, 3.5f, 1.6f);
-        glProgramUniform3f(composite.id, composite_water, 0.06f, 0.30f, 0.52f);
-        glProgramUniform1f(composite.id, composite_refraction, 0.25f);
-        glProgramUniform2f(composite.id, composite_near_far, kCameraNear, kCameraFar);
-        glProgramUniform1i(bilateral.id, bilateral_source, 0);
-        glProgramUniform1i(bilateral.id, bilateral_max_radius, s.max_filter_pixels);
+        // Fixed inputs: texture units (0 depth, 1 thickness, 2 scene colour, 3 scene depth, 4 the
+        // environment) and the water's look until set_water.
+        const auto unit = [](const Program& p, const char* name, int u) {
+            glProgramUniform1i(p.id, uniform_location(p.id, name, "screen fluid"), u);
+        };
+        unit(composite, "u_depth", 0);
+        unit(composite, "u_thickness", 1);
+        unit(composite, "u_scene_color", 2);
+        unit(composite, "u_scene_depth", 3);
+        unit(composite, "u_environment", 4);
+        unit(smoothing, "u_depth", 0);
+        unit(close_holes, "u_depth", 0);
+        glProgramUniform1i(close_holes.id, uniform_location(close_holes.id, "u_reach", "close_holes"),
+                           s.fill_holes);
+        close_holes_jump = uniform_location(close_holes.id, "u_jump", "close_holes");
+        close_holes_gap = uniform_location(close_holes.id, "u_gap", "close_holes");
+        unit(thickness_blur, "u_thickness", 0);
+        set_water(WaterLook{});
+        glProgramUniform1i(composite.id, composite_has_environment, 0);
+        glProgramUniform1f(composite.id, uniform_location(composite.id, "u_refraction", "composite"), 0.25f);
+        glProgramUniform2f(composite.id, uniform_location(composite.id, "u_near_far", "composite"),
+                           kCameraNear, kCameraFar);
+        glProgramUniform1i(smoothing.id, smooth_u.max_radius, s.max_filter_pixels);
+        glProgramUniform1i(smoothing.id, smooth_u.max_taps, s.max_filter_taps);
+        glProgramUniform1i(smoothing.id, smooth_u.iterations, std::max(1, s.filter_iterations));
+        glProgramUniform1f(thickness_blur.id, blur_sigma, s.thickness_blur);
         check_gl("ScreenFluidPass setup");
     }
 
     ~Impl() {
-        for (GLuint p : {depth.id, thickness.id, bilateral.id, composite.id}) glDeleteProgram(p);
-        const GLuint textures[] = {depth_a, depth_b, depth_test, thick, scene_color, scene_depth};
-        glDeleteTextures(6, textures);
-        const GLuint fbos[] = {depth_fbo, fbo_a, fbo_b, thick_fbo};
+        for (GLuint p :
+             {depth.id, thickness.id, close_holes.id, smoothing.id, thickness_blur.id, composite.id})
+            glDeleteProgram(p);
+        const GLuint textures[] = {depth_a, depth_b, depth_test, thick, thick_b, scene_color, scene_depth};
+        glDeleteTextures(7, textures);
+        const GLuint fbos[] = {fbo_a, fbo_b, thick_fbo, thick_fbo_b};
         glDeleteFramebuffers(4, fbos);
         const GLuint buffers[] = {xs.id, ys.id, zs.id};
         glDeleteBuffers(3, buffers);
         glDeleteVertexArrays(1, &vao);
+    }
+
+    void set_water(const WaterLook& w) {
+        glProgramUniform3f(composite.id, composite_absorption, w.absorption.x, w.absorption.y,
+                           w.absorption.z);
+        glProgramUniform3f(composite.id, composite_water, w.color.x, w.color.y, w.color.z);
+    }
+
+    void set_environment(GLuint cube_map) {
+        environment = cube_map;
+        glProgramUniform1i(composite.id, composite_has_environment, cube_map != 0 ? 1 : 0);
     }
 
     void set_camera(const CameraDesc& camera, Vec3f light) {
@@ -198,7 +302,7 @@ struct ScreenFluidPass::Impl {
         const Mat4 vp = view_projection(camera, aspect);
         basis = camera_basis(camera);
         const CameraBasis& b = basis;
-        for (const Program* p : {&depth, &thickness, &bilateral, &composite}) {
+        for (const Program* p : {&depth, &thickness, &close_holes, &smoothing, &thickness_blur, &composite}) {
             const CameraUniforms& u = p->camera;
             glProgramUniform3f(p->id, u.eye, b.eye.x, b.eye.y, b.eye.z);
             glProgramUniform3f(p->id, u.forward, b.forward.x, b.forward.y, b.forward.z);
@@ -225,6 +329,15 @@ struct ScreenFluidPass::Impl {
         glUseProgram(p.id);
         glBindVertexArray(vao);  // no attribute is read: the triangle comes from gl_VertexID
         glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+
+    // With time_passes: waits for GL and charges the time since the last mark to `slot`.
+    void mark(double* slot) {
+        if (!settings.time_passes) return;
+        glFinish();
+        const Clock::time_point now = Clock::now();
+        if (slot) *slot = std::chrono::duration<double, std::milli>(now - mark_time).count();
+        mark_time = now;
     }
 
     // The pixels the spheres can cover (x0, y0, x1, y1), from each centre's projection widened by its
@@ -259,11 +372,85 @@ struct ScreenFluidPass::Impl {
                 clamp_y(std::ceil(y1) + 2)};
     }
 
+    // Ping-pongs between depth_a and depth_b; smoothed_fbo / smoothed_texture name where it ends.
+    // Pixels outside the scissor box hold no fluid, and both targets are background there.
+    // The raw depth is in depth_a; with hole filling the filled depth ends in depth_b. Returns the
+    // texture holding the depth smoothing starts from.
+    GLuint fill_holes(float radius) {
+        if (settings.fill_holes == 0) return depth_a;
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_ALWAYS);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_b);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, depth_a);
+        viewport(close_holes, width, height);
+        glProgramUniform1f(close_holes.id, close_holes_jump, settings.depth_sigma * radius);
+        glProgramUniform1f(close_holes.id, close_holes_gap, radius);
+        full_screen(close_holes);
+        glDepthFunc(GL_LESS);
+        glDisable(GL_DEPTH_TEST);
+        return depth_b;
+    }
+
+    void smooth(float radius, GLuint start) {
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_GREATER);  // only where a sphere was drawn (see kFullScreenVertex)
+        glDepthMask(GL_FALSE);
+        glActiveTexture(GL_TEXTURE0);
+        viewport(smoothing, width, height);
+        const SmoothingUniforms& u = smooth_u;
+        glProgramUniform1f(smoothing.id, u.world_sigma, settings.filter_radius * radius);
+        glProgramUniform1f(smoothing.id, u.depth_sigma, settings.depth_sigma * radius);
+        glProgramUniform1f(smoothing.id, u.threshold, settings.depth_sigma * radius);
+        glProgramUniform1f(smoothing.id, u.clamp, radius);
+        glProgramUniform1f(smoothing.id, u.jump, settings.depth_sigma * radius);
+        glProgramUniform1f(smoothing.id, u.max_step, 0.25f * radius);
+        GLuint source = start, other = start == depth_a ? depth_b : depth_a;
+        GLuint target_fbo = start == depth_a ? fbo_b : fbo_a, other_fbo = start == depth_a ? fbo_a : fbo_b;
+        const auto pass = [&](int sx, int sy) {
+            glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
+            glBindTexture(GL_TEXTURE_2D, source);
+            if (u.step >= 0) glProgramUniform2i(smoothing.id, u.step, sx, sy);
+            full_screen(smoothing);
+            std::swap(source, other);
+            std::swap(target_fbo, other_fbo);
+        };
+        for (int i = 0; i < settings.filter_iterations; ++i) {
+            if (settings.smoothing == DepthSmoothing::kCurvatureFlow) {
+                pass(0, 0);
+            } else {
+                pass(1, 0);
+                pass(0, 1);
+            }
+        }
+        smoothed_texture = source;
+        smoothed_fbo = source == depth_a ? fbo_a : fbo_b;
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_DEPTH_TEST);
+    }
+
+    void blur_thickness() {
+        if (settings.thickness_blur <= 0.0f) return;
+        viewport(thickness_blur, thick_w, thick_h);
+        glActiveTexture(GL_TEXTURE0);
+        glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo_b);
+        glBindTexture(GL_TEXTURE_2D, thick);
+        glProgramUniform2i(thickness_blur.id, blur_step, 1, 0);
+        full_screen(thickness_blur);
+        glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo);
+        glBindTexture(GL_TEXTURE_2D, thick_b);
+        glProgramUniform2i(thickness_blur.id, blur_step, 0, 1);
+        full_screen(thickness_blur);
+    }
+
     void render(const ParticleSpritesView& particles, float radius) {
         const std::size_t n = particles.size();
+        timings = {};
         if (n == 0 || radius <= 0) return;
         if (particles.y.size() != n || particles.z.size() != n)
             throw std::out_of_range("ScreenFluidPass::render: x, y and z differ in length");
+        mark(nullptr);
         xs.upload(particles.x.data(), n * sizeof(float));
         ys.upload(particles.y.data(), n * sizeof(float));
         zs.upload(particles.z.data(), n * sizeof(float));
@@ -275,48 +462,31 @@ struct ScreenFluidPass::Impl {
         glActiveTexture(GL_TEXTURE3);
         glBindTexture(GL_TEXTURE_2D, scene_depth);
         glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
+        mark(&timings.copy_scene);
 
-        // Depth of the nearest sphere per pixel.
-        glBindFramebuffer(GL_FRAMEBUFFER, depth_fbo);
-        viewport(depth, width, height);
+        // Depth of the nearest sphere per pixel; depth_b starts as background too, so pixels outside
+        // the smoothing's scissor box read as background whichever target smoothing ends in.
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_b);
         glClearColor(0, 0, 0, 0);
+        glClear(GL_COLOR_BUFFER_BIT);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_a);
+        viewport(depth, width, height);
         glClearDepth(1.0);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glEnable(GL_DEPTH_TEST);
         glProgramUniform1f(depth.id, depth_radius, radius);
         draw_spheres(depth, n);
         glDisable(GL_DEPTH_TEST);
+        mark(&timings.depth);
 
-        // Smoothing, ping-ponging between depth_a and depth_b; the result ends in depth_a. Only inside the
-        // fluid's bounds (depth_b is cleared once, so what lies outside stays background in both).
         const std::array<int, 4> box = screen_bounds(particles, radius);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_b);
-        glClear(GL_COLOR_BUFFER_BIT);
         glEnable(GL_SCISSOR_TEST);
         glScissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
-        glEnable(GL_DEPTH_TEST);
-        glDepthFunc(GL_GREATER);
-        glDepthMask(GL_FALSE);
-        glActiveTexture(GL_TEXTURE0);
-        viewport(bilateral, width, height);
-        glProgramUniform1f(bilateral.id, bilateral_world_sigma, settings.filter_radius * radius);
-        glProgramUniform1f(bilateral.id, bilateral_depth_sigma, settings.depth_sigma * radius);
-        for (int i = 0; i < settings.filter_iterations; ++i) {
-            glBindFramebuffer(GL_FRAMEBUFFER, fbo_b);
-            glBindTexture(GL_TEXTURE_2D, depth_a);
-            glProgramUniform2i(bilateral.id, bilateral_step, 1, 0);
-            full_screen(bilateral);
-            glBindFramebuffer(GL_FRAMEBUFFER, fbo_a);
-            glBindTexture(GL_TEXTURE_2D, depth_b);
-            glProgramUniform2i(bilateral.id, bilateral_step, 0, 1);
-            full_screen(bilateral);
-        }
-
-        // Thickness: every sphere's chord, summed.
+        smooth(radius, fill_holes(radius));
         glDisable(GL_SCISSOR_TEST);
-        glDisable(GL_DEPTH_TEST);
-        glDepthFunc(GL_LESS);
-        glDepthMask(GL_TRUE);
+        mark(&timings.smoothing);
+
+        // Thickness: every sphere's chord, summed, then blurred.
         glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo);
         viewport(thickness, thick_w, thick_h);
         glClear(GL_COLOR_BUFFER_BIT);
@@ -325,14 +495,18 @@ struct ScreenFluidPass::Impl {
         glProgramUniform1f(thickness.id, thickness_radius, radius);
         draw_spheres(thickness, n);
         glDisable(GL_BLEND);
+        blur_thickness();
+        mark(&timings.thickness);
 
         // Composite over the picture.
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         viewport(composite, width, height);
         glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, depth_a);
+        glBindTexture(GL_TEXTURE_2D, smoothed_texture);
         glActiveTexture(GL_TEXTURE1);
         glBindTexture(GL_TEXTURE_2D, thick);
+        glActiveTexture(GL_TEXTURE4);
+        glBindTexture(GL_TEXTURE_CUBE_MAP, environment);
         glDepthMask(GL_FALSE);
         glEnable(GL_SCISSOR_TEST);
         full_screen(composite);
@@ -341,6 +515,7 @@ struct ScreenFluidPass::Impl {
         glEnable(GL_DEPTH_TEST);
         glActiveTexture(GL_TEXTURE0);
         glBindVertexArray(0);
+        mark(&timings.composite);
     }
 
     void read(ScreenFluidBuffer which, std::span<float> out) const {
@@ -351,7 +526,7 @@ struct ScreenFluidPass::Impl {
         // The raw depth is overwritten by smoothing: only readable as such without filter passes.
         if (which == ScreenFluidBuffer::kRawDepth && settings.filter_iterations > 0)
             throw std::logic_error("ScreenFluidPass::read: the raw depth is smoothed in place");
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, thin ? thick_fbo : fbo_a);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, thin ? thick_fbo : smoothed_fbo);
         glPixelStorei(GL_PACK_ALIGNMENT, 4);
         glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, out.data());
         glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
@@ -368,8 +543,17 @@ void ScreenFluidPass::set_camera(const CameraDesc& camera, Vec3f light_dir) {
 void ScreenFluidPass::render(const ParticleSpritesView& particles, float radius) {
     impl_->render(particles, radius);
 }
+void ScreenFluidPass::set_water(const WaterLook& water) {
+    impl_->set_water(water);
+}
+void ScreenFluidPass::set_environment(unsigned cube_map_texture) {
+    impl_->set_environment(cube_map_texture);
+}
 void ScreenFluidPass::read(ScreenFluidBuffer which, std::span<float> out) const {
     impl_->read(which, out);
+}
+const ScreenFluidTimings& ScreenFluidPass::timings() const {
+    return impl_->timings;
 }
 int ScreenFluidPass::thickness_width() const {
     return impl_->thick_w;

@@ -1,27 +1,57 @@
 #pragma once
 // Screen-space fluid rendering (van der Laan, Green & Sainz 2009; seed 004 §3.1): particles are drawn as
-// spheres into a linear eye-space depth target, the depth is smoothed by a separable bilateral filter
-// whose screen radius follows depth, the fluid's thickness is summed at reduced resolution, and a
-// composite pass shades the water from normals of the smoothed depth over the scene already drawn.
-// Runs on the render thread, inside the Renderer's GL context.
+// spheres into a linear eye-space depth target; the depth is smoothed (a separable bilateral filter,
+// curvature flow, or the narrow-range filter of Truong & Yuksel 2018) with a screen radius that follows
+// depth; the fluid's thickness is summed at reduced resolution and blurred; and a composite pass shades
+// the water from normals of the smoothed depth over the scene already drawn. Runs on the render thread,
+// inside the Renderer's GL context.
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "systems/render/frame_view.h"
 #include "systems/scenes/scene.h"
+#include "systems/scenes/scene_look.h"
 
 namespace rivulet {
 
+// How the depth is smoothed (seed 004 §3.1.2 and beyond it).
+enum class DepthSmoothing {
+    kBilateral,      // separable bilateral approximation (van Vliet & Pham), Gaussian over depth differences
+    kCurvatureFlow,  // mean-curvature flow of the depth (van der Laan, Green & Sainz 2009)
+    kNarrowRange,    // narrow-range filter (Truong & Yuksel 2018): a hard, growing depth range, no halos
+};
+// "bilateral", "curvature-flow", "narrow-range"; parse returns false on anything else.
+const char* depth_smoothing_name(DepthSmoothing s);
+bool parse_depth_smoothing(std::string_view text, DepthSmoothing& out);
+// Passes a smoothing takes by default: one separable pass for the filters; curvature flow moves the
+// surface a little per step, so it needs many.
+int default_filter_iterations(DepthSmoothing s);
+
 struct ScreenFluidSettings {
-    int filter_iterations = 1;   // bilateral passes (each one x and one y)
+    static constexpr int kMaxIterations = 256;
+    DepthSmoothing smoothing = DepthSmoothing::kNarrowRange;
+    int filter_iterations = 1;   // filter passes (each one x and one y) or curvature-flow steps
     float filter_radius = 2.0f;  // Gaussian sigma over the image, in particle radii at the pixel's depth
-    float depth_sigma = 4.0f;    // Gaussian sigma over depth differences, in particle radii
+    // In particle radii: the bilateral's Gaussian sigma over depth differences, the narrow-range filter's
+    // starting half range, and the depth jump curvature flow treats as another surface.
+    float depth_sigma = 4.0f;
     int max_filter_pixels = 16;  // the filter's half width never exceeds this
+    // The filters read at most this many taps on each side; wider kernels are sampled with a stride.
+    int max_filter_taps = 8;
+    int fill_holes = 2;  // background pixels with fluid on both sides this near are filled (0: none)
     int thickness_downsample = 2;
+    float thickness_blur = 1.5f;  // Gaussian sigma over the thickness, in its reduced pixels (0: none)
+    bool time_passes = false;     // finish GL after each pass and time it (benchmarks; slows the frame)
     // "" when valid, else the problem naming the option (--filter-iterations, ...).
     std::string validate() const;
+};
+
+// Milliseconds of each pass of the last render (with ScreenFluidSettings::time_passes; else zeros).
+struct ScreenFluidTimings {
+    double copy_scene = 0, depth = 0, smoothing = 0, thickness = 0, composite = 0;
 };
 
 // The passes' targets, for tests.
@@ -37,11 +67,15 @@ class ScreenFluidPass {
     ScreenFluidPass& operator=(const ScreenFluidPass&) = delete;
 
     void set_camera(const CameraDesc& camera, Vec3f light_dir);
+    void set_water(const WaterLook& water);
+    // A GL cube-map texture the water reflects (the Renderer's environment); 0: the analytic sky.
+    void set_environment(unsigned cube_map_texture);
     // Draws `particles` (spheres of `radius`) as water over the picture in the default framebuffer,
     // whose colour and depth are the scene behind. No particles: the picture is left as it is.
     void render(const ParticleSpritesView& particles, float radius);
     // Width x height floats (thickness: its reduced size, thickness_size()), rows bottom to top.
     void read(ScreenFluidBuffer which, std::span<float> out) const;
+    const ScreenFluidTimings& timings() const;
     int thickness_width() const;
     int thickness_height() const;
 

@@ -95,37 +95,190 @@ void main() {
 }
 )";
 
-// One direction of the separable bilateral filter (the seed's §3.1.2.1 approximation): a Gaussian over
-// pixels whose screen radius follows depth (a fixed world-space width), times a Gaussian over depth
-// differences so separate sheets do not blend. Background pixels (depth 0) are neither changed nor used,
-// so silhouettes do not bleed into the background.
+// The width every smoothing filter shares: a Gaussian whose sigma is a fixed world length, so its screen
+// radius follows depth (far fluid is not smoothed more than near fluid), at most u_max_radius pixels,
+// read with at most u_max_taps taps a side (a stride beyond that).
+const char* const kFilterWidth = R"(
+uniform float u_world_sigma;   // world units
+uniform int u_max_radius;      // pixels
+uniform int u_max_taps;        // per side
+struct FilterWidth { float sigma; int taps; int stride; };
+FilterWidth filter_width(float d) {
+    float scale = 0.5 * u_viewport.y / (u_half_extent.y * d);  // pixels per world unit at depth d
+    float sigma = max(u_world_sigma * scale, 0.5);
+    int radius = min(int(ceil(2.0 * sigma)), u_max_radius);
+    int stride = max(1, (radius + u_max_taps - 1) / u_max_taps);
+    return FilterWidth(sigma, radius / stride, stride);
+}
+)";
+
+// Closes pinholes and pits of the sphere depth: where particles sit about a diameter apart, rays slip
+// between them and show the floor, or a particle a layer deeper, through single pixels; a per-pixel
+// filter keeps such a pixel as a separate surface. A pixel with nearer fluid on both sides along x or
+// along y, within u_reach pixels, the two sides within u_jump of each other and both more than u_gap
+// nearer than the pixel (background counts as infinitely far), takes their mean. A slope has one side
+// nearer and one farther and an outline has fluid on one side only, so neither changes. Writes the
+// depth-test buffer too, so the smoothing passes see filled pixels.
+const char* const kCloseHolesFragment = R"(
+uniform sampler2D u_depth;
+uniform int u_reach;    // pixels
+uniform float u_jump;   // world units
+uniform float u_gap;    // world units
+out float frag_depth;
+float nearest_surface(ivec2 p, ivec2 step) {
+    ivec2 size = textureSize(u_depth, 0);
+    float m = 0.0;
+    for (int i = 1; i <= u_reach; ++i) {
+        float s = texelFetch(u_depth, clamp(p + i * step, ivec2(0), size - 1), 0).r;
+        if (s > 0.0 && (m == 0.0 || s < m)) m = s;
+    }
+    return m;
+}
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    float d = texelFetch(u_depth, p, 0).r;
+    float limit = (d > 0.0 ? d : 3.0e38) - u_gap;
+    float sum = 0.0, count = 0.0;
+    float l = nearest_surface(p, ivec2(-1, 0)), r = nearest_surface(p, ivec2(1, 0));
+    if (l > 0.0 && r > 0.0 && abs(l - r) < u_jump && max(l, r) < limit) sum += l + r, count += 2.0;
+    float b = nearest_surface(p, ivec2(0, -1)), t = nearest_surface(p, ivec2(0, 1));
+    if (b > 0.0 && t > 0.0 && abs(b - t) < u_jump && max(b, t) < limit) sum += b + t, count += 2.0;
+    if (count > 0.0) d = sum / count;
+    if (d <= 0.0) discard;
+    frag_depth = d;
+    gl_FragDepth = 0.5;  // anything nearer than the far plane marks the pixel as fluid
+}
+)";
+
+// One direction of the separable bilateral filter (the seed's §3.1.2.1 approximation): the shared
+// Gaussian over pixels, times a Gaussian over depth differences so separate sheets do not blend.
+// Background pixels (depth 0) are neither changed nor used, so silhouettes do not bleed into the
+// background.
 const char* const kBilateralFragment = R"(
 uniform sampler2D u_depth;
 uniform ivec2 u_step;          // (1, 0) or (0, 1)
-uniform float u_world_sigma;   // world units
 uniform float u_depth_sigma;   // world units
-uniform int u_max_radius;      // pixels
 out float frag_depth;
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     float d = texelFetch(u_depth, p, 0).r;
     if (d <= 0.0) { frag_depth = 0.0; return; }
-    // Pixels per world unit at depth d.
-    float scale = 0.5 * u_viewport.y / (u_half_extent.y * d);
-    float sigma = max(u_world_sigma * scale, 0.5);
-    int radius = min(int(ceil(2.0 * sigma)), u_max_radius);
+    FilterWidth f = filter_width(d);
     ivec2 size = textureSize(u_depth, 0);
     float sum = 0.0, weight = 0.0;
-    for (int i = -radius; i <= radius; ++i) {
-        ivec2 q = clamp(p + i * u_step, ivec2(0), size - 1);
-        float s = texelFetch(u_depth, q, 0).r;
+    for (int t = -f.taps; t <= f.taps; ++t) {
+        int i = t * f.stride;
+        float s = texelFetch(u_depth, clamp(p + i * u_step, ivec2(0), size - 1), 0).r;
         if (s <= 0.0) continue;
         float ds = (s - d) / u_depth_sigma;
-        float w = exp(-0.5 * float(i * i) / (sigma * sigma) - 0.5 * ds * ds);
+        float w = exp(-0.5 * float(i * i) / (f.sigma * f.sigma) - 0.5 * ds * ds);
         sum += w * s;
         weight += w;
     }
     frag_depth = sum / weight;
+}
+)";
+
+// One direction of the narrow-range filter (Truong & Yuksel 2018). Samples are taken in symmetric
+// pairs with plain Gaussian weights, but only inside a depth range around the pixel that starts at
+// +-u_threshold and widens as accepted samples extend it, so a slope is followed while a separate sheet
+// is not: a pair with a sample in front of the range is skipped whole (the kernel stays symmetric and
+// the nearer sheet leaves no halo), and a sample behind it counts as the pixel's depth + u_clamp. The
+// background counts as behind everything, which rounds silhouettes off without moving them.
+const char* const kNarrowRangeFragment = R"(
+uniform sampler2D u_depth;
+uniform ivec2 u_step;        // (1, 0) or (0, 1)
+uniform float u_threshold;   // world units
+uniform float u_clamp;       // world units
+out float frag_depth;
+float far_if_empty(float s) { return s > 0.0 ? s : 3.0e38; }
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    float d = texelFetch(u_depth, p, 0).r;
+    if (d <= 0.0) { frag_depth = 0.0; return; }
+    FilterWidth f = filter_width(d);
+    ivec2 size = textureSize(u_depth, 0);
+    float low = d - u_threshold, high = d + u_threshold, behind = d + u_clamp;
+    float sum = d, weight = 1.0;
+    for (int t = 1; t <= f.taps; ++t) {
+        int i = t * f.stride;
+        float a = far_if_empty(texelFetch(u_depth, clamp(p + i * u_step, ivec2(0), size - 1), 0).r);
+        float b = far_if_empty(texelFetch(u_depth, clamp(p - i * u_step, ivec2(0), size - 1), 0).r);
+        if (a < low || b < low) continue;
+        a = a > high ? behind : a;
+        b = b > high ? behind : b;
+        low = min(low, min(a, b) - u_threshold);
+        high = max(high, max(a, b) + u_threshold);
+        float w = exp(-0.5 * float(i * i) / (f.sigma * f.sigma));
+        sum += w * (a + b);
+        weight += 2.0 * w;
+    }
+    frag_depth = sum / weight;
+}
+)";
+
+// One explicit step of screen-space curvature flow (van der Laan, Green & Sainz 2009, seed 004
+// §3.1.2.2): the depth moves against the surface's mean curvature H computed from its screen-space
+// derivatives. Where a neighbour is background or lies beyond a depth jump, the surface is taken to
+// continue flat (a zero one-sided difference), so silhouettes stay put. The step is chosen per pixel:
+// small enough for stability (a diffusion number of at most 0.2 per pixel) and, where the pixels allow,
+// the step that spreads over the world-space sigma in u_iterations steps.
+const char* const kCurvatureFlowFragment = R"(
+uniform sampler2D u_depth;
+uniform float u_world_sigma;  // world units
+uniform float u_jump;         // world units: a larger depth difference is another surface
+uniform float u_max_step;     // world units: no pixel moves further in one step
+uniform int u_iterations;
+out float frag_depth;
+float neighbour(ivec2 q, float d) {
+    ivec2 size = textureSize(u_depth, 0);
+    float s = texelFetch(u_depth, clamp(q, ivec2(0), size - 1), 0).r;
+    return (s > 0.0 && abs(s - d) < u_jump) ? s : d;
+}
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    float z = texelFetch(u_depth, p, 0).r;
+    if (z <= 0.0) { frag_depth = 0.0; return; }
+    float l = neighbour(p + ivec2(-1, 0), z), r = neighbour(p + ivec2(1, 0), z);
+    float b = neighbour(p + ivec2(0, -1), z), t = neighbour(p + ivec2(0, 1), z);
+    float bl = neighbour(p + ivec2(-1, -1), z), br = neighbour(p + ivec2(1, -1), z);
+    float tl = neighbour(p + ivec2(-1, 1), z), tr = neighbour(p + ivec2(1, 1), z);
+    float zx = 0.5 * (r - l), zy = 0.5 * (t - b);
+    float zxx = r + l - 2.0 * z, zyy = t + b - 2.0 * z, zxy = 0.25 * (tr - tl - br + bl);
+    // World size of a pixel per unit depth, along x and y.
+    float cx = 2.0 * u_half_extent.x / u_viewport.x, cy = 2.0 * u_half_extent.y / u_viewport.y;
+    float cx2 = cx * cx, cy2 = cy * cy;
+    float D = cy2 * zx * zx + cx2 * zy * zy + cx2 * cy2 * z * z;
+    float dDx = 2.0 * (cy2 * zx * zxx + cx2 * zy * zxy + cx2 * cy2 * z * zx);
+    float dDy = 2.0 * (cy2 * zx * zxy + cx2 * zy * zyy + cx2 * cy2 * z * zy);
+    float ex = 0.5 * zx * dDx - zxx * D, ey = 0.5 * zy * dDy - zyy * D;
+    float h = (cy * ex + cx * ey) / (2.0 * D * sqrt(D));
+    // For a gently sloped sheet -h ~ (zxx + zyy) / (2 pixel): a step of 2 pixel k diffuses by k per
+    // pixel^2; k spreads sigma_pixels^2 / (2 iterations) over the run.
+    float pixel = cx * z;
+    float spread = u_world_sigma / pixel;
+    float k = min(0.2, spread * spread / (2.0 * float(u_iterations)));
+    frag_depth = z + clamp(-2.0 * pixel * k * h, -u_max_step, u_max_step);
+}
+)";
+
+// One direction of a plain Gaussian over the reduced-resolution thickness (seed 004 §3.1.3).
+const char* const kThicknessBlurFragment = R"(
+uniform sampler2D u_thickness;
+uniform ivec2 u_step;
+uniform float u_sigma;  // pixels of the thickness target
+out float frag_thickness;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    ivec2 size = textureSize(u_thickness, 0);
+    int radius = int(ceil(2.0 * u_sigma));
+    float sum = 0.0, weight = 0.0;
+    for (int i = -radius; i <= radius; ++i) {
+        float w = exp(-0.5 * float(i * i) / (u_sigma * u_sigma));
+        sum += w * texelFetch(u_thickness, clamp(p + i * u_step, ivec2(0), size - 1), 0).r;
+        weight += w;
+    }
+    frag_thickness = sum / weight;
 }
 )";
 
@@ -142,6 +295,8 @@ uniform vec3 u_light_dir;
 uniform vec3 u_absorption;       // per metre of water, per channel
 uniform vec3 u_water_color;
 uniform float u_refraction;
+uniform samplerCube u_environment;
+uniform bool u_has_environment;  // else the analytic sky
 uniform vec2 u_near_far;
 out vec4 frag_color;
 
@@ -182,7 +337,8 @@ void main() {
 
     float ndv = max(dot(n, v), 0.0);
     float fresnel = 0.02 + 0.98 * pow(1.0 - ndv, 5.0);
-    vec3 reflected = sky_color(reflect(-v, n));
+    vec3 r = reflect(-v, n);
+    vec3 reflected = u_has_environment ? texture(u_environment, r).rgb : sky_color(r);
     vec2 offset = vec2(dot(n, u_right), dot(n, u_up)) * u_refraction * min(thickness, 0.2);
     vec2 uv = clamp((vec2(p) + 0.5) / u_viewport - offset, vec2(0.0), vec2(1.0));
     vec3 behind = texture(u_scene_color, uv).rgb;

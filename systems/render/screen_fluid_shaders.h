@@ -17,7 +17,13 @@ extern const char* const kSphereThicknessFragment;
 
 // Full-screen triangle from gl_VertexID.
 extern const char* const kFullScreenVertex;
+extern const char* const kCloseHolesFragment;
+// The depth-following filter width (kFilterWidth) goes before the two filters that use it.
+extern const char* const kFilterWidth;
 extern const char* const kBilateralFragment;
+extern const char* const kNarrowRangeFragment;
+extern const char* const kCurvatureFlowFragment;
+extern const char* const kThicknessBlurFragment;
 extern const char* const kCompositeFragment;
 
 }  // namespace rivulet::shaders

@@ -1,0 +1,132 @@
+// Milliseconds of each pass of the screen-space fluid method (seed 004 §3.1) on real frames: copy of the
+// scene behind, sphere depth, depth smoothing, thickness (+ blur), composite. GL is finished after each
+// pass, so the passes do not overlap; the frame's render time is measured in a second run without
+// that, as users see it. Prints one row per scene and depth filter, medians over the frames.
+//
+//   bench_screen_passes [--threads 2] [--size 1280x720] [--frames 20] [--scenes fountain,dambreak]
+//                       [--filters narrow-range,bilateral,curvature-flow]
+// One thread count per process: llvmpipe reads its thread count once.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "runtime/lib/frame_pipeline.h"
+#include "runtime/lib/thread_control.h"
+#include "systems/scenes/scene.h"
+
+namespace {
+
+using namespace rivulet;
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+std::vector<std::string> split(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');)
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+struct Row {
+    double copy = 0, depth = 0, smoothing = 0, thickness = 0, composite = 0, scene = 0, render = 0,
+           particles = 0;
+};
+
+Row measure(const SceneDesc& scene, DepthSmoothing filter, int width, int height, int frames) {
+    Row row;
+    for (bool timed : {true, false}) {
+        PipelineConfig config;
+        config.method = SurfaceMethod::kScreen;
+        config.pipelined = false;  // the passes alone on the machine: extraction does not compete
+        config.size = {width, height};
+        config.screen.smoothing = filter;
+        config.screen.filter_iterations = default_filter_iterations(filter);
+        config.screen.time_passes = timed;
+        FramePipeline pipeline(scene, config);
+        pipeline.warmup();
+        std::vector<double> copy, depth, smoothing, thickness, composite;
+        pipeline.run(frames, [&](int) {
+            const ScreenFluidTimings& t = pipeline.renderer()->screen_fluid().timings();
+            copy.push_back(t.copy_scene), depth.push_back(t.depth), smoothing.push_back(t.smoothing);
+            thickness.push_back(t.thickness), composite.push_back(t.composite);
+        });
+        const std::size_t skip = std::min<std::size_t>(3, pipeline.records().size() / 2);
+        if (timed) {
+            const auto drop = [&](std::vector<double>& v) { v.erase(v.begin(), v.begin() + long(skip)); };
+            for (auto* v : {&copy, &depth, &smoothing, &thickness, &composite}) drop(*v);
+            row.copy = median(copy), row.depth = median(depth), row.smoothing = median(smoothing);
+            row.thickness = median(thickness), row.composite = median(composite);
+            // What the timed render spent outside the fluid's passes: the sky, ground and colliders.
+            std::vector<double> rest;
+            for (std::size_t i = skip; i < pipeline.records().size(); ++i)
+                rest.push_back(pipeline.records()[i].render_ms - copy[i - skip] - depth[i - skip] -
+                               smoothing[i - skip] - thickness[i - skip] - composite[i - skip]);
+            row.scene = median(rest);
+        } else {
+            std::vector<double> render, particles;
+            for (std::size_t i = skip; i < pipeline.records().size(); ++i) {
+                render.push_back(pipeline.records()[i].render_ms);
+                particles.push_back(pipeline.records()[i].particles);
+            }
+            row.render = median(render), row.particles = median(particles);
+        }
+    }
+    return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Per-pass milliseconds of the screen-space fluid method"};
+    int threads = 2, frames = 20;
+    std::string size = "1280x720", scenes = "fountain,dambreak",
+                filters = "narrow-range,bilateral,curvature-flow";
+    app.add_option("--threads", threads)->check(CLI::Range(1, 256));
+    app.add_option("--frames", frames)->check(CLI::Range(4, 10000));
+    app.add_option("--size", size);
+    app.add_option("--scenes", scenes);
+    app.add_option("--filters", filters);
+    CLI11_PARSE(app, argc, argv);
+    int width = 0, height = 0;
+    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) {
+        fmt::print(stderr, "bench_screen_passes: --size wants WxH, got {}\n", size);
+        return 2;
+    }
+    ThreadControl control(threads);
+    fmt::print("screen-space fluid passes, {}x{}, {} threads, medians of {} frames (ms)\n", width, height,
+               threads, frames - 3);
+    fmt::print("{:<10} {:<15} {:>9} {:>6} {:>6} {:>9} {:>9} {:>9} {:>16} {:>6} {:>10}\n", "scene", "filter",
+               "particles", "copy", "depth", "smoothing", "thickness", "composite", "smooth+composite",
+               "scene", "render");
+    try {
+        for (const std::string& name : split(scenes)) {
+            const SceneDesc scene = make_builtin_scene(name);
+            for (const std::string& f : split(filters)) {
+                DepthSmoothing filter;
+                if (!parse_depth_smoothing(f, filter)) {
+                    fmt::print(stderr, "bench_screen_passes: unknown filter {}\n", f);
+                    return 2;
+                }
+                const Row r = measure(scene, filter, width, height, frames);
+                fmt::print(
+                    "{:<10} {:<15} {:>9.0f} {:>6.2f} {:>6.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>16.2f} {:>6.2f} "
+                    "{:>10.2f}\n",
+                    name, f, r.particles, r.copy, r.depth, r.smoothing, r.thickness, r.composite,
+                    r.smoothing + r.composite, r.scene, r.render);
+            }
+        }
+    } catch (const std::exception& e) {
+        fmt::print(stderr, "bench_screen_passes: {}\n", e.what());
+        return 1;
+    }
+    return 0;
+}
