@@ -9,6 +9,8 @@ find_package(PkgConfig REQUIRED)
 # Link OSMesa alone: with libGL (glvnd) also on the line, GL calls silently draw nothing (shared/PLATFORM.md).
 pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
 pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
+# FFmpeg's libraries encode `run --video` (systems/render/video_writer.cpp, docs/video.md).
+pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavcodec libavformat libavutil libswscale)
 if(RIVULET_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)
 endif()

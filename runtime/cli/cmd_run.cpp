@@ -12,6 +12,7 @@
 #include "runtime/lib/thread_control.h"
 #include "runtime/lib/trace_recorder.h"
 #include "runtime/lib/trace_summary.h"
+#include "systems/render/video_writer.h"
 
 namespace rivulet::cli {
 namespace {
@@ -21,6 +22,7 @@ struct RunOptions {
     std::string method = "scan";
     int threads = 0;
     std::string out = "out";
+    std::string video;
     std::string size = "1280x720";
     std::string json;
     std::string trace;
@@ -73,6 +75,14 @@ int run(const RunOptions& o) {
     config.pipelined = !o.no_pipeline;
     config.out_dir = o.no_render ? "" : o.out;
     parse_size(o.size, config.size.width, config.size.height);
+    config.video_path = o.video;
+    if (!o.video.empty()) {
+        // yuv420p halves both sides; an odd size would have to be cropped or padded behind the user's back.
+        if (config.size.width % 2 != 0 || config.size.height % 2 != 0)
+            throw std::invalid_argument(fmt::format(
+                "--video needs an even --size (yuv420p video halves both sides), got '{}'", o.size));
+        silence_video_library_log();  // its notes would break the one-line error contract
+    }
 
     // A recording logs the inputs of every simulated frame, warm-up included, as they are handed out.
     std::vector<FrameInputs> inputs_log;
@@ -100,6 +110,7 @@ int run(const RunOptions& o) {
     pipeline.reserve_records(static_cast<std::size_t>(o.scene.frames));
     ProgressBar bar("frames", o.scene.frames);
     pipeline.run(o.scene.frames, [&bar](int i) { bar.update(i + 1); });
+    pipeline.finish_video();
 
     const StageSummary summary = summarize(pipeline, o.timing_warmup);
     const auto& recs = pipeline.records();
@@ -121,6 +132,13 @@ int run(const RunOptions& o) {
             "particle entries were drawn as spheres instead\n",
             config.scan.max_groups, short_frames, recs.size(), worst);
     if (!config.out_dir.empty()) fmt::print("pictures: {}/frame_*.png\n", config.out_dir);
+    if (const VideoWriter* v = pipeline.video()) {
+        const VideoFrameRate rate = v->frame_rate();
+        fmt::print("video: {} ({}, {}x{}, {} fps, {} frames)\n", v->path(), v->codec_description(),
+                   v->width(), v->height(),
+                   rate.den == 1 ? fmt::format("{}", rate.num) : fmt::format("{}/{}", rate.num, rate.den),
+                   v->frames());
+    }
     if (trace) {
         const nlohmann::json capture = chrome_trace(*trace, pipeline.graph());
         write_chrome_trace(o.trace, capture);
@@ -162,6 +180,10 @@ void add_run_command(CLI::App& app, int& status) {
     add_threads_option(*cmd, opts->threads, "Threads for TBB and llvmpipe together (0 = all)");
     cmd->add_option("--out", opts->out, "Directory for PNG frames (empty: no pictures)")
         ->capture_default_str();
+    CLI::Option* video = cmd->add_option(
+        "--video", opts->video,
+        "Also encode the frames into this video at the scene's frame rate (H.264, else MPEG-4; "
+        "container by extension: .mp4, .mkv, .mov, .avi); needs an even --size");
     cmd->add_option("--size", opts->size, "Picture size WxH")->capture_default_str();
     cmd->add_option("--json", opts->json, "Write the timing summary as JSON");
     cmd->add_option("--trace", opts->trace,
@@ -172,7 +194,8 @@ void add_run_command(CLI::App& app, int& status) {
                     "Frames rendered first and left out of the medians (benchmarks)")
         ->check(CLI::Range(0, 1000000));
     cmd->add_flag("--no-pipeline", opts->no_pipeline, "Extract frame N+1 only after frame N is rendered");
-    cmd->add_flag("--no-render", opts->no_render, "Simulate and extract only (no GL, no pictures)");
+    cmd->add_flag("--no-render", opts->no_render, "Simulate and extract only (no GL, no pictures)")
+        ->excludes(video);
     opts->scan.add_to(*cmd);
     opts->slices.add_to(*cmd);
     opts->screen.add_to(*cmd);

@@ -1,8 +1,11 @@
 #include "runtime/lib/frame_pipeline.h"
 
+#include <fmt/format.h>
+#include <tbb/flow_graph.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -12,6 +15,7 @@
 
 #include "systems/particles/particle_hash.h"
 #include "systems/render/png_writer.h"
+#include "systems/render/video_writer.h"
 
 namespace rivulet {
 namespace {
@@ -19,6 +23,11 @@ namespace {
 double ms_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// A picture queued for the video encoder: its ring buffer and frame index.
+struct VideoFrame {
+    std::uint32_t buffer = 0, index = 0;
+};
 
 }  // namespace
 
@@ -51,8 +60,42 @@ struct FramePipeline::PngRing {
     }
 };
 
+// Pictures waiting for the video encoder. A video needs its frames in order, so one serial flow-graph
+// node encodes them one at a time from its FIFO (a worker, or the main thread while it waits); three
+// buffers let the main thread render ahead of it. As with PNGs, a failed encode keeps its error for the
+// main thread, and the frames after it are dropped.
+struct FramePipeline::VideoRing {
+    static constexpr std::uint64_t kBuffers = 3;
+    VideoWriter writer;
+    std::array<AlignedArray<std::uint8_t>, kBuffers> rgba;
+    std::size_t bytes = 0;
+    std::uint64_t submitted = 0;            // main thread only
+    std::atomic<std::uint64_t> encoded{0};  // frames the encoder is done with (buffers free again)
+    std::atomic<bool> failed{false};
+    std::exception_ptr error;  // set once by the encoder before `failed`
+    bool finished = false;     // main thread only
+    tbb::flow::graph graph;
+    tbb::flow::function_node<VideoFrame> encoder;
+
+    template <class Encode>
+    explicit VideoRing(Encode encode) : encoder(graph, tbb::flow::serial, std::move(encode)) {}
+    // Waits for every queued frame; rethrows an encoder failure.
+    void wait() {
+        graph.wait_for_all();
+        if (failed.load(std::memory_order_acquire) && error)
+            std::rethrow_exception(std::exchange(error, nullptr));
+    }
+    ~VideoRing() { graph.wait_for_all(); }  // before the node and the buffers go
+};
+
 FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& config)
     : scene_(scene), config_(config) {
+    // First of all, so that a bad path or size fails before anything slow is built.
+    if (!config_.video_path.empty()) {
+        if (!config_.render)
+            throw std::invalid_argument("a video needs rendering: PipelineConfig::render is off");
+        open_video();
+    }
     sim_ = std::make_unique<SceneSimulation>(scene_, config_.inputs);
     // Every thread that may run a job of the method gets its scratch now, so no frame allocates it later.
     surface_ = make_surface_system({config_.method, config_.scan, config_.slices, config_.screen}, scene_,
@@ -68,6 +111,7 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
         graph_.attach_trace(config_.trace);
         trace_render_ = config_.trace->intern("render");
         trace_png_ = config_.trace->intern("png_encode");
+        trace_video_ = config_.trace->intern("video_encode");
     }
     if (config_.render) {
         renderer_ = std::make_unique<Renderer>(config_.size);
@@ -86,6 +130,44 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
 }
 
 FramePipeline::~FramePipeline() = default;
+
+void FramePipeline::open_video() {
+    // One picture per simulated frame, so the video plays in real time at the scene's own rate.
+    const double fps = 1.0 / double(scene_.dt);
+    if (!(fps <= VideoWriter::kMaxFps))
+        throw std::runtime_error(fmt::format(
+            "cannot write video '{}': the scene's dt of {} s makes {:.0f} frames per second, more than the "
+            "{} a video may have",
+            config_.video_path, scene_.dt, fps, VideoWriter::kMaxFps));
+    video_ = std::make_unique<VideoRing>([this](const VideoFrame& f) {
+        VideoRing& v = *video_;
+        if (!v.failed.load(std::memory_order_relaxed)) {
+            const std::int64_t t = config_.trace ? config_.trace->now_ns() : 0;
+            try {
+                v.writer.write(v.rgba[f.buffer].span(v.bytes));
+            } catch (...) {
+                v.error = std::current_exception();
+                v.failed.store(true, std::memory_order_release);
+            }
+            if (config_.trace) config_.trace->record(trace_video_, f.index, -1, t, config_.trace->now_ns());
+        }
+        v.encoded.fetch_add(1, std::memory_order_release);
+    });
+    video_->writer.open(config_.video_path, config_.size.width, config_.size.height, fps);
+    video_->bytes = std::size_t(config_.size.width) * std::size_t(config_.size.height) * 4u;
+    for (auto& b : video_->rgba) b.reserve(video_->bytes);
+}
+
+void FramePipeline::finish_video() {
+    if (!video_ || video_->finished) return;
+    video_->finished = true;
+    video_->wait();
+    video_->writer.finish();
+}
+
+const VideoWriter* FramePipeline::video() const {
+    return video_ ? &video_->writer : nullptr;
+}
 
 void FramePipeline::build_graph() {
     sim_end_ = sim_->add_jobs(graph_);
@@ -143,6 +225,17 @@ void FramePipeline::render(int slot, int frame_index) {
     FrameView view = slots_[slot].view(scene_.particle_radius);
     surface_->fill_view(slot, view);
     renderer_->render(view);
+    if (video_ && !video_->finished) {
+        VideoRing& v = *video_;
+        // The buffer's previous frame must be encoded; it nearly always is (the encoder keeps up).
+        if (v.submitted - v.encoded.load(std::memory_order_acquire) >= VideoRing::kBuffers)
+            v.graph.wait_for_all();
+        if (v.failed.load(std::memory_order_acquire)) v.wait();  // throws the encoder's error
+        const auto buffer = static_cast<std::uint32_t>(v.submitted % VideoRing::kBuffers);
+        renderer_->read_rgba(v.rgba[buffer].span(v.bytes));
+        v.encoder.try_put({buffer, static_cast<std::uint32_t>(frame_index)});
+        ++v.submitted;
+    }
     if (!png_) return;
     auto& buf = png_->buffers[static_cast<std::size_t>(frame_index % PngRing::kBuffers)];
     buf.finish();  // the encode that last used this buffer
@@ -202,6 +295,7 @@ void FramePipeline::run(int frames, const std::function<void(int)>& on_frame) {
         if (on_frame) on_frame(i);
     }
     if (png_) png_->finish_all();
+    if (video_ && !video_->finished) video_->wait();
 }
 
 }  // namespace rivulet

@@ -1,7 +1,7 @@
 #pragma once
 // The frame loop: simulation and extraction of frame N+1 run as a frame graph on TBB workers while the
-// main thread renders frame N from the other slot (DESIGN §1). PNG encoding runs as tasks off the main
-// thread. Everything is sized at construction; the steady state allocates nothing.
+// main thread renders frame N from the other slot (DESIGN §1). PNG and video encoding run as tasks off the
+// main thread. Everything is sized at construction; the steady state allocates nothing.
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -16,6 +16,7 @@
 #include "runtime/lib/trace_recorder.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/renderer.h"
+#include "systems/render/video_writer.h"
 #include "systems/scenes/scene.h"
 
 namespace rivulet {
@@ -30,8 +31,11 @@ struct PipelineConfig {
     bool hash_frames = false;  // frame_output_hash per frame (determinism tests, replay)
     std::string out_dir;       // PNG frames go here when not empty
     int png_level = 1;
+    // Every rendered frame also goes into this video (docs/video.md) when not empty, at the scene's
+    // frame rate (1 / dt). Needs `render`.
+    std::string video_path;
     RenderSettings size;
-    TraceRecorder* trace = nullptr;  // zones of every job, render and PNG encode when set
+    TraceRecorder* trace = nullptr;  // zones of every job, render, PNG and video encode when set
     // Outside inputs of each simulated frame (warm-up included); empty: the scene's scripted inputs.
     // Replay feeds recorded inputs here. Called on a worker; must not allocate.
     std::function<FrameInputs(std::uint64_t sim_frame)> inputs;
@@ -56,7 +60,8 @@ struct FrameRecord {
 class FramePipeline {
   public:
     // Builds simulation, surface method, slots, frame graph and (if config.render) the renderer on the
-    // calling thread, which becomes the render thread. Throws on invalid settings or GL failure.
+    // calling thread, which becomes the render thread. Throws on invalid settings or GL failure, and
+    // when the video cannot be created (checked first, so a bad path fails at once).
     FramePipeline(const SceneDesc& scene, const PipelineConfig& config);
     ~FramePipeline();
 
@@ -67,6 +72,11 @@ class FramePipeline {
     void run(int frames, const std::function<void(int)>& on_frame = {});
     // Reserves records for this many frames up front (run() grows them otherwise).
     void reserve_records(std::size_t frames) { records_.reserve(frames); }
+    // Encodes the frames still queued, drains the encoder and completes the video file; frames run
+    // later are not added. Throws on a write failure. The destructor does this too, but quietly.
+    void finish_video();
+    // The video being written (or finished); null without config.video_path.
+    const VideoWriter* video() const;
 
     const std::vector<FrameRecord>& records() const { return records_; }
     const FrameGraph& graph() const { return graph_; }
@@ -80,6 +90,7 @@ class FramePipeline {
 
   private:
     void build_graph();
+    void open_video();
     void extract(int slot, std::uint32_t frame_index, bool async);
     void finish_extract(int slot);
     void render(int slot, int frame_index);
@@ -95,9 +106,11 @@ class FramePipeline {
     std::unique_ptr<Renderer> renderer_;
     struct PngRing;
     std::unique_ptr<PngRing> png_;
+    struct VideoRing;
+    std::unique_ptr<VideoRing> video_;
     std::vector<FrameRecord> records_;
     FrameRecord pending_;  // extraction figures of the frame in flight
-    std::uint16_t trace_render_ = 0, trace_png_ = 0;
+    std::uint16_t trace_render_ = 0, trace_png_ = 0, trace_video_ = 0;
 };
 
 }  // namespace rivulet
