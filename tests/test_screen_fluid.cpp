@@ -179,22 +179,23 @@ double interior_spread(const std::vector<float>& d) {
     return std::sqrt(std::max(0.0, sum2 / n - mean * mean));
 }
 
+// The depth of `p` before smoothing (raw) or after `filter`'s default passes.
+std::vector<float> depth_of(const Particles& p, float radius, DepthSmoothing filter, bool smoothed) {
+    ScreenFluidSettings s;
+    s.smoothing = filter;
+    s.filter_iterations = smoothed ? default_filter_iterations(filter) : 0;
+    auto r = make_renderer(s);
+    draw(*r, p, radius);
+    return read(*r, smoothed ? ScreenFluidBuffer::kSmoothedDepth : ScreenFluidBuffer::kRawDepth);
+}
+
 class EachDepthFilter : public ::testing::TestWithParam<DepthSmoothing> {};
 
 TEST_P(EachDepthFilter, FlattensAJitteredSheetWithoutBleeding) {
     const float radius = 0.04f;
     const Particles p = jittered_sheet(radius);
-    ScreenFluidSettings raw;
-    raw.filter_iterations = 0;
-    auto r0_owner = make_renderer(raw);
-    draw(*r0_owner, p, radius);
-    const std::vector<float> before = read(*r0_owner, ScreenFluidBuffer::kRawDepth);
-    ScreenFluidSettings smooth;
-    smooth.smoothing = GetParam();
-    smooth.filter_iterations = default_filter_iterations(GetParam());
-    auto r1_owner = make_renderer(smooth);
-    draw(*r1_owner, p, radius);
-    const std::vector<float> after = read(*r1_owner, ScreenFluidBuffer::kSmoothedDepth);
+    const std::vector<float> before = depth_of(p, radius, {}, false);
+    const std::vector<float> after = depth_of(p, radius, GetParam(), true);
     // The sheet's depth spread at least halves: the particles' bumps are smoothed away.
     EXPECT_LT(interior_spread(after), 0.5 * interior_spread(before)) << depth_smoothing_name(GetParam());
     // No bleeding: a pixel without fluid before smoothing has none after, and the other way round.
@@ -222,17 +223,8 @@ TEST_P(EachDepthFilter, KeepsASheetFarBehindAnotherApart) {
             p.add({-0.4f + 0.04f * float(ix), 0.1f + 0.04f * float(iy), -10 * radius});
             if (ix < 10) p.add({-0.4f + 0.04f * float(ix), 0.1f + 0.04f * float(iy), 0});
         }
-    ScreenFluidSettings raw;
-    raw.filter_iterations = 0;
-    auto r0_owner = make_renderer(raw);
-    draw(*r0_owner, p, radius);
-    const std::vector<float> before = read(*r0_owner, ScreenFluidBuffer::kRawDepth);
-    ScreenFluidSettings smooth;
-    smooth.smoothing = GetParam();
-    smooth.filter_iterations = default_filter_iterations(GetParam());
-    auto r1_owner = make_renderer(smooth);
-    draw(*r1_owner, p, radius);
-    const std::vector<float> after = read(*r1_owner, ScreenFluidBuffer::kSmoothedDepth);
+    const std::vector<float> before = depth_of(p, radius, {}, false);
+    const std::vector<float> after = depth_of(p, radius, GetParam(), true);
     int checked = 0;
     for (int j = kH / 2 - 10; j < kH / 2 + 10; ++j)
         for (int i = 1; i + 1 < kW; ++i) {
@@ -321,15 +313,17 @@ TEST(ScreenFluid, ThicknessBlurKeepsTheTotalAndLowersThePeak) {
 }
 
 TEST(ScreenFluid, PixelsWithoutFluidKeepTheSceneExactly) {
-    auto plain_owner = make_renderer({});
-    Renderer& plain = *plain_owner;
-    draw(plain, {}, 0.05f);
+    // The background is the same frame drawn without the water pass: the particle still casts its
+    // shadow on the ground there, so only the water itself can differ.
+    Particles p;
+    p.add({0, 0.5f, 0});
+    Renderer plain(RenderSettings{kW, kH});
+    plain.set_scene(facing_scene());
+    draw(plain, p, 0.1f);
     std::vector<std::uint8_t> background(std::size_t(kW) * kH * 4), water(background.size());
     plain.read_rgba(background);
     auto r_owner = make_renderer({});
     Renderer& r = *r_owner;
-    Particles p;
-    p.add({0, 0.5f, 0});
     draw(r, p, 0.1f);
     r.read_rgba(water);
     // The sphere covers the centre; pixels away from it are the background's bytes.

@@ -224,6 +224,7 @@ void FramePipeline::render(int slot, int frame_index) {
     if (!renderer_) return;
     FrameView view = slots_[slot].view(scene_.particle_radius);
     surface_->fill_view(slot, view);
+    renderer_->set_container_offset(slots_[slot].inputs.container_offset);  // the slosh tank swings
     renderer_->render(view);
     if (video_ && !video_->finished) {
         VideoRing& v = *video_;

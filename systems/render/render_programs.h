@@ -1,21 +1,43 @@
 #pragma once
-// The renderer's two linked programs with their uniform locations looked up once.
+// The renderer's linked programs with their uniform locations looked up once.
+#include <array>
+
 #include "systems/render/gl.h"
+#include "systems/render/shaders.h"
 
 namespace rivulet {
 
+// One variant of the lit program (shaders::kLit*). Locations a variant does not use are -1, which
+// glProgramUniform* ignores, so every variant can be given every uniform.
 struct LitProgram {
     GLuint id = 0;
-    GLint view_proj = -1, scale = -1, eye = -1, light_dir = -1, material = -1;
+    GLint view_proj = -1, scale = -1, clip = -1, eye = -1, light_dir = -1, reflection_lod = -1;
+    GLint water_color = -1, absorption = -1, albedo = -1, shine = -1, horizon = -1;
+    GLint shadow_matrix = -1, shadow_texel = -1;
 };
+using LitPrograms = std::array<LitProgram, shaders::kLitVariants>;
 
 struct SkyProgram {
     GLuint id = 0;
     GLint forward = -1, right = -1, up = -1, half_extent = -1;
 };
 
-// Both throw std::runtime_error with the compiler/linker log on failure.
-LitProgram build_lit_program();
+// Depth only, from the key light: triangles (u_scale and the offset attribute as the lit program) and
+// round points for the screen-space fluid's particles.
+struct ShadowProgram {
+    GLuint id = 0;
+    GLint light_view_proj = -1, scale = -1, clip = -1, water = -1;
+};
+struct ShadowPointProgram {
+    GLuint id = 0;
+    GLint light_view_proj = -1, point_size = -1, depth_radius = -1;
+};
+
+// All throw std::runtime_error with the compiler/linker log on failure. The lit and sky programs read
+// the environment on shaders::kEnvironmentUnit and the shadow map on shaders::kShadowUnit.
+LitPrograms build_lit_programs();
 SkyProgram build_sky_program();
+ShadowProgram build_shadow_program();
+ShadowPointProgram build_shadow_point_program();
 
 }  // namespace rivulet

@@ -1,5 +1,7 @@
 #include "systems/render/renderer.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -7,6 +9,7 @@
 
 #include "jobs/low_res_sphere.h"
 #include "systems/render/camera.h"
+#include "systems/render/environment_map.h"
 #include "systems/render/gl.h"
 #include "systems/render/gl_buffer.h"
 #include "systems/render/gl_program.h"
@@ -14,12 +17,16 @@
 #include "systems/render/render_programs.h"
 #include "systems/render/scene_geometry.h"
 #include "systems/render/shaders.h"
+#include "systems/render/shadow_map.h"
 
 namespace rivulet {
 namespace {
 
 constexpr int kMinSize = 16, kMaxSize = 8192;
 constexpr std::size_t kVertexBytes = 6 * sizeof(float);
+// u_clip while nothing is clipped: llvmpipe applies the clip distances a shader writes even with
+// GL_CLIP_DISTANCEi disabled.
+constexpr float kNoClip = 1e30f;
 
 int checked_size(int value, const char* what) {
     if (value < kMinSize || value > kMaxSize) {
@@ -42,12 +49,24 @@ const void* index_byte_offset(std::size_t index) {
 
 struct Renderer::Impl {
     OsMesaContext context;
-    LitProgram lit;
+    LitPrograms lit;
     SkyProgram sky;
+    ShadowProgram shadow;
+    ShadowPointProgram shadow_points;
+    ShadowMap shadow_map;
+    ShadowFit shadow_fit;
+    float max_point_size = 1;
+    EnvironmentMap environment;
     GLuint empty_vao = 0;  // the sky draws from gl_VertexID, but core profile still wants a VAO bound
 
     GLuint static_vbo = 0, static_ibo = 0, static_vao = 0;
-    GLsizei ground_index_count = 0, collider_index_count = 0;
+    IndexRange ground, ground_far, solids, tank_frame, glass_back, glass_front;
+    Vec3f tank_offset;
+    // SPH scenes: the fluid is clipped to the tank's glass box (at tank_offset). Surfaces reach past the
+    // particles (scan conversion's round cylinders most of all), and a tank drawn around them must not
+    // show water outside its walls.
+    bool clip_fluid = false;
+    BoxCollider glass_box;
 
     CylinderLayout layout;
     std::uint32_t max_cylinders = 0;
@@ -64,8 +83,15 @@ struct Renderer::Impl {
     GrowingBuffer sphere_instances;
     GLsizei sphere_index_count = 0;
 
+    // The screen-space fluid's particles once more, for their shadows (its own copies are private).
+    GrowingBuffer sprite_x, sprite_y, sprite_z;
+    GLuint sprite_vao = 0;
+    // The isolated spheres' centres (sphere_instances) as points, for their shadows.
+    GLuint sphere_point_vao = 0;
+
     std::unique_ptr<ScreenFluidPass> screen;
     CameraDesc camera_desc;  // of the scene, for passes set up after it
+    WaterLook water;
     Vec3f light{0, 1, 0};
 
     GLuint pool_vbo = 0, pool_ibo = 0, pool_vao = 0;
@@ -73,12 +99,29 @@ struct Renderer::Impl {
     GLsizei pool_index_count = 0;
     std::vector<float> pool_vertices;
 
-    Impl(int width, int height) : context(checked_size(width, "width"), checked_size(height, "height")) {
-        lit = build_lit_program();
-        sky = build_sky_program();
+    // What this frame uploaded, drawn by both the shadow and the main pass.
+    struct Uploaded {
+        bool pool = false;
+        GLsizei cylinder_draws = 0, mesh_indices = 0, spheres = 0, sprites = 0;
+        float radius = 0;
+    } up;
+
+    Impl(int width, int height)
+        : context(checked_size(width, "width"), checked_size(height, "height")),
+          lit(build_lit_programs()),
+          sky(build_sky_program()),
+          shadow(build_shadow_program()),
+          shadow_points(build_shadow_point_program()),
+          shadow_map(kShadowMapSize) {
+        for (const LitProgram& p : lit) {
+            glProgramUniform1f(p.id, p.scale, 1.0f);
+            glProgramUniform4f(p.id, p.clip, -kNoClip, -kNoClip, kNoClip, kNoClip);
+        }
+        glProgramUniform4f(shadow.id, shadow.clip, -kNoClip, -kNoClip, kNoClip, kNoClip);
         glGenVertexArrays(1, &empty_vao);
         create_static_objects();
         create_sphere_objects();
+        create_sprite_objects();
         mesh_vbo.create();
         mesh_ibo.create();
         mesh_vao = create_mesh_vao(mesh_vbo.id, mesh_ibo.id);
@@ -88,12 +131,23 @@ struct Renderer::Impl {
         pool_vbo = create_buffer();
         pool_ibo = create_buffer();
         pool_vao = create_mesh_vao(pool_vbo, pool_ibo);
+        float point_sizes[2] = {1, 1};
+        glGetFloatv(GL_POINT_SIZE_RANGE, point_sizes);
+        max_point_size = point_sizes[1];
         glViewport(0, 0, width, height);
         glDisable(GL_CULL_FACE);
         glDepthFunc(GL_LESS);
+        glEnable(GL_TEXTURE_CUBE_MAP_SEAMLESS);
+        // Until set_scene: the default camera's sky and an empty stage.
         apply_camera(CameraDesc{});
+        environment.make_sky(light);
+        set_environment();
+        fit_shadows(SceneDesc{});
+        set_water(WaterLook{});
         check_gl("renderer setup");
     }
+
+    ~Impl() { context.make_current(); }  // members below delete their GL objects in this context
 
     void create_static_objects() {
         static_vbo = create_buffer();
@@ -112,34 +166,98 @@ struct Renderer::Impl {
         sphere_vao = create_instanced_sphere_vao(sphere_vbo, sphere_ibo, sphere_instances.id);
     }
 
+    // Points for the shadow pass, one float per attribute (kShadowPointVertex): x, y and z from three
+    // buffers (the particles' arrays as they are) or from one interleaved buffer (the sphere centres).
+    static GLuint point_vao(const GLuint (&buffers)[3], GLsizei stride, const GLuint (&offsets)[3]) {
+        GLuint vao = 0;
+        glGenVertexArrays(1, &vao);
+        glBindVertexArray(vao);
+        for (GLuint a = 0; a < 3; ++a) {
+            glBindVertexBuffer(a, buffers[a], 0, stride);
+            glEnableVertexAttribArray(a);
+            glVertexAttribFormat(a, 1, GL_FLOAT, GL_FALSE, offsets[a]);
+            glVertexAttribBinding(a, a);
+        }
+        glBindVertexArray(0);
+        return vao;
+    }
+
+    void create_sprite_objects() {
+        sprite_x.create(), sprite_y.create(), sprite_z.create();
+        sprite_vao = point_vao({sprite_x.id, sprite_y.id, sprite_z.id}, sizeof(float), {0, 0, 0});
+        const GLuint centres = sphere_instances.id;
+        sphere_point_vao = point_vao({centres, centres, centres}, 3 * sizeof(float), {0, 4, 8});
+    }
+
     void apply_camera(const CameraDesc& camera) {
         const float aspect = static_cast<float>(context.width()) / static_cast<float>(context.height());
         const Mat4 vp = view_projection(camera, aspect);
         const CameraBasis b = camera_basis(camera);
-        // Light from above and behind the viewer, slightly to the right, so what faces the camera is lit.
-        Vec3f back = camera.eye - camera.target;
-        back.y = 0;
-        back = length(back) > 1e-6f ? normalize(back) : Vec3f{0, 0, 1};
-        light = normalize(Vec3f{0, 1, 0} + back * 0.6f + b.right * 0.35f);
+        light = key_light(camera);
         camera_desc = camera;
         if (screen) screen->set_camera(camera, light);
-        glProgramUniformMatrix4fv(lit.id, lit.view_proj, 1, GL_FALSE, vp.m);
-        glProgramUniform3f(lit.id, lit.eye, b.eye.x, b.eye.y, b.eye.z);
-        glProgramUniform3f(lit.id, lit.light_dir, light.x, light.y, light.z);
+        for (const LitProgram& p : lit) {
+            glProgramUniformMatrix4fv(p.id, p.view_proj, 1, GL_FALSE, vp.m);
+            glProgramUniform3f(p.id, p.eye, b.eye.x, b.eye.y, b.eye.z);
+            glProgramUniform3f(p.id, p.light_dir, light.x, light.y, light.z);
+        }
         glProgramUniform3f(sky.id, sky.forward, b.forward.x, b.forward.y, b.forward.z);
         glProgramUniform3f(sky.id, sky.right, b.right.x, b.right.y, b.right.z);
         glProgramUniform3f(sky.id, sky.up, b.up.x, b.up.y, b.up.z);
         glProgramUniform2f(sky.id, sky.half_extent, b.tan_half_fov_y * aspect, b.tan_half_fov_y);
     }
 
+    // The light's box around the scene's stage; it depends on the scene only, so it is fitted once.
+    void fit_shadows(const SceneDesc& scene) {
+        shadow_fit = fit_shadow(light, shadow_stage(scene), shadow_map.resolution(), scene.ground_y);
+        for (const LitProgram& p : lit) {
+            glProgramUniformMatrix4fv(p.id, p.shadow_matrix, 1, GL_FALSE, shadow_fit.texture_matrix.m);
+            glProgramUniform1f(p.id, p.shadow_texel, shadow_fit.texel_world);
+        }
+        glProgramUniformMatrix4fv(shadow.id, shadow.light_view_proj, 1, GL_FALSE,
+                                  shadow_fit.light_view_proj.m);
+        glProgramUniformMatrix4fv(shadow_points.id, shadow_points.light_view_proj, 1, GL_FALSE,
+                                  shadow_fit.light_view_proj.m);
+    }
+
+    void set_environment() {
+        const Vec3f h = environment.horizon_color();
+        const float lod =
+            std::max(0.0f, std::log2(static_cast<float>(environment.face_size()) / kSkyFaceSize));
+        for (const LitProgram& p : lit) {
+            glProgramUniform3f(p.id, p.horizon, h.x, h.y, h.z);
+            glProgramUniform1f(p.id, p.reflection_lod, lod);
+        }
+        if (screen) screen->set_environment(environment.texture());
+    }
+
+    void set_water(const WaterLook& w) {
+        water = w;
+        const LitProgram& p = lit[shaders::kLitWater];
+        glProgramUniform3f(p.id, p.water_color, w.color.x, w.color.y, w.color.z);
+        glProgramUniform3f(p.id, p.absorption, w.absorption.x, w.absorption.y, w.absorption.z);
+        if (screen) screen->set_water(w);
+    }
+
     void set_scene(const SceneDesc& scene) {
         context.make_current();
         apply_camera(scene.camera);
-        const StaticGeometry g = build_static_geometry(scene);
+        if (scene.look.environment.faces.empty()) {
+            environment.make_sky(light);
+        } else {
+            environment.load_faces(scene.look.environment.faces);
+        }
+        set_environment();
+        set_water(scene.look.water);
+        fit_shadows(scene);
+        const StaticGeometry g = build_static_geometry(scene, shadow_fit.ground);
         buffer_data(static_vbo, g.vertices.size() * sizeof(float), g.vertices.data(), GL_STATIC_DRAW);
         buffer_data(static_ibo, g.indices.size() * sizeof(std::uint32_t), g.indices.data(), GL_STATIC_DRAW);
-        ground_index_count = static_cast<GLsizei>(g.ground_index_count);
-        collider_index_count = static_cast<GLsizei>(g.indices.size() - g.ground_index_count);
+        ground = g.ground, ground_far = g.ground_far, solids = g.solids, tank_frame = g.tank_frame;
+        glass_back = g.glass_back, glass_front = g.glass_front;
+        tank_offset = {};
+        clip_fluid = scene.simulation == SimulationKind::kSph;
+        if (clip_fluid) glass_box = tank_glass_box(scene);
         if (scene.pool.enabled) ensure_pool(scene.pool.nx, scene.pool.nz);
         check_gl("Renderer::set_scene");
     }
@@ -189,38 +307,13 @@ struct Renderer::Impl {
         context.make_current();
         screen = std::make_unique<ScreenFluidPass>(context.width(), context.height(), settings);
         screen->set_camera(camera_desc, light);
+        screen->set_water(water);
+        screen->set_environment(environment.texture());
     }
 
-    void draw_sky() {
-        glDisable(GL_DEPTH_TEST);
-        glDepthMask(GL_FALSE);
-        glUseProgram(sky.id);
-        glBindVertexArray(empty_vao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glEnable(GL_DEPTH_TEST);
-        glDepthMask(GL_TRUE);
-        glClear(GL_DEPTH_BUFFER_BIT);
-    }
+    // --- this frame's data into GL buffers, once for both passes ---
 
-    void draw_static() {
-        if (ground_index_count > 0) {
-            // Pushed back in depth so water lying exactly at ground height still wins.
-            glEnable(GL_POLYGON_OFFSET_FILL);
-            glPolygonOffset(2.0f, 8.0f);
-            glProgramUniform1i(lit.id, lit.material, shaders::kMaterialGround);
-            glBindVertexArray(static_vao);
-            glDrawElements(GL_TRIANGLES, ground_index_count, GL_UNSIGNED_INT, nullptr);
-            glDisable(GL_POLYGON_OFFSET_FILL);
-        }
-        if (collider_index_count > 0) {
-            glProgramUniform1i(lit.id, lit.material, shaders::kMaterialCollider);
-            glBindVertexArray(static_vao);
-            glDrawElements(GL_TRIANGLES, collider_index_count, GL_UNSIGNED_INT,
-                           index_byte_offset(std::size_t(ground_index_count)));
-        }
-    }
-
-    void draw_pool(const HeightFieldView& pool) {
+    void upload_pool(const HeightFieldView& pool) {
         if (pool.heights.empty()) return;
         if (pool.nx < 2 || pool.nz < 2 ||
             pool.heights.size() != std::size_t(pool.nx) * std::size_t(pool.nz)) {
@@ -230,11 +323,10 @@ struct Renderer::Impl {
         ensure_pool(pool.nx, pool.nz);
         write_height_field_vertices(pool, pool_vertices);
         buffer_sub_data(pool_vbo, 0, pool_vertices.size() * sizeof(float), pool_vertices.data());
-        glBindVertexArray(pool_vao);
-        glDrawElements(GL_TRIANGLES, pool_index_count, GL_UNSIGNED_INT, nullptr);
+        up.pool = true;
     }
 
-    void draw_cylinders(const CylinderFrameView& cylinders) {
+    void upload_cylinders(const CylinderFrameView& cylinders) {
         if (cylinders.groups.empty()) return;
         if (max_cylinders == 0) bad_frame("cylinder groups given before set_cylinder_pool");
         const std::size_t vpc = layout.verts_per_cylinder();
@@ -268,42 +360,200 @@ struct Renderer::Impl {
             add(layout.top_cap_index_offset(g.vmin), std::size_t(cap));
             add(layout.bottom_cap_index_offset(g.vmax), std::size_t(cap));
         }
-        glBindVertexArray(cylinder_vao);
-        glMultiDrawElementsBaseVertex(GL_TRIANGLES, draw_counts.data(), GL_UNSIGNED_INT, draw_offsets.data(),
-                                      draws, draw_base_vertices.data());
+        up.cylinder_draws = draws;
     }
 
-    void draw_mesh(const TriangleMeshView& mesh) {
+    void upload_mesh(const TriangleMeshView& mesh) {
         if (mesh.indices.empty()) return;
         if (mesh.vertices.size() % 6 != 0) bad_frame("mesh vertex array is not 6 floats per vertex");
         mesh_vbo.upload(mesh.vertices.data(), mesh.vertices.size() * sizeof(float));
         mesh_ibo.upload(mesh.indices.data(), mesh.indices.size() * sizeof(std::uint32_t));
-        glBindVertexArray(mesh_vao);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh.indices.size()), GL_UNSIGNED_INT, nullptr);
+        up.mesh_indices = static_cast<GLsizei>(mesh.indices.size());
     }
 
-    void draw_spheres(std::span<const float> centers, float radius) {
+    void upload_spheres(std::span<const float> centers, float radius) {
         const std::size_t count = centers.size() / 3;
         if (count == 0 || radius <= 0) return;
         sphere_instances.upload(centers.data(), count * 3 * sizeof(float));
-        glProgramUniform1f(lit.id, lit.scale, radius);
-        glBindVertexArray(sphere_vao);
-        glDrawElementsInstanced(GL_TRIANGLES, sphere_index_count, GL_UNSIGNED_INT, nullptr,
-                                static_cast<GLsizei>(count));
+        up.spheres = static_cast<GLsizei>(count);
+    }
+
+    void upload_sprites(const ParticleSpritesView& p, float radius) {
+        const std::size_t n = p.size();
+        if (n == 0 || radius <= 0) return;
+        if (p.y.size() != n || p.z.size() != n) bad_frame("sprite x, y and z differ in length");
+        sprite_x.upload(p.x.data(), n * sizeof(float));
+        sprite_y.upload(p.y.data(), n * sizeof(float));
+        sprite_z.upload(p.z.data(), n * sizeof(float));
+        up.sprites = static_cast<GLsizei>(n);
+    }
+
+    // --- draws, for whichever program is bound; `scale` is its u_scale ---
+
+    void draw_range(IndexRange r) {
+        if (r.count == 0) return;
+        glBindVertexArray(static_vao);
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(r.count), GL_UNSIGNED_INT,
+                       index_byte_offset(r.first));
+    }
+
+    // The tank moves with the container: its vertices read the offset as the constant of attribute 2.
+    void draw_tank_range(IndexRange r) {
+        if (r.count == 0) return;
+        glVertexAttrib3f(2, tank_offset.x, tank_offset.y, tank_offset.z);
+        draw_range(r);
+        glVertexAttrib3f(2, 0, 0, 0);
+    }
+
+    // `spheres`: the isolated spheres as instanced meshes too (the shadow pass draws them as points).
+    void draw_fluid(GLuint program, GLint scale, GLint clip, bool spheres) {
+        // Only programs that write gl_ClipDistance (clip >= 0) may have the planes enabled.
+        const bool clipping = clip_fluid && clip >= 0;
+        glProgramUniform1f(program, scale, 1.0f);
+        if (clipping) {
+            const Vec3f lo = glass_box.min + tank_offset, hi = glass_box.max + tank_offset;
+            glProgramUniform4f(program, clip, lo.x, lo.z, hi.x, hi.z);
+            for (GLenum plane = 0; plane < 4; ++plane) glEnable(GL_CLIP_DISTANCE0 + plane);
+        }
+        if (up.cylinder_draws > 0) {
+            glBindVertexArray(cylinder_vao);
+            glMultiDrawElementsBaseVertex(GL_TRIANGLES, draw_counts.data(), GL_UNSIGNED_INT,
+                                          draw_offsets.data(), up.cylinder_draws, draw_base_vertices.data());
+        }
+        if (up.mesh_indices > 0) {
+            glBindVertexArray(mesh_vao);
+            glDrawElements(GL_TRIANGLES, up.mesh_indices, GL_UNSIGNED_INT, nullptr);
+        }
+        if (spheres && up.spheres > 0) {
+            glProgramUniform1f(program, scale, up.radius);
+            glBindVertexArray(sphere_vao);
+            glDrawElementsInstanced(GL_TRIANGLES, sphere_index_count, GL_UNSIGNED_INT, nullptr, up.spheres);
+            glProgramUniform1f(program, scale, 1.0f);
+        }
+        if (clipping) {
+            for (GLenum plane = 0; plane < 4; ++plane) glDisable(GL_CLIP_DISTANCE0 + plane);
+            glProgramUniform4f(program, clip, -kNoClip, -kNoClip, kNoClip, kNoClip);
+        }
+    }
+
+    // Casters: solids, the tank's frame, the fluid (half a shadow: shaders.cpp kShadowFragment). The ground
+    // and the pool only receive: nothing lies under them, and drawing them would only risk acne and cost
+    // fill.
+    void draw_shadow_pass() {
+        shadow_map.begin();
+        glUseProgram(shadow.id);
+        glProgramUniform1f(shadow.id, shadow.scale, 1.0f);
+        glProgramUniform1i(shadow.id, shadow.water, 0);
+        draw_range(solids);
+        draw_tank_range(tank_frame);
+        glProgramUniform1i(shadow.id, shadow.water, 1);
+        draw_fluid(shadow.id, shadow.scale, shadow.clip, false);
+        // Particles as round points: one vertex each instead of a sphere's 42 (vertices are shaded on this
+        // thread alone, and a dam break has tens of thousands of particles).
+        if (up.sprites + up.spheres > 0) {
+            const float size = 2.0f * up.radius / shadow_fit.texel_world;
+            glProgramUniform1f(shadow_points.id, shadow_points.point_size,
+                               std::clamp(size, 1.0f, max_point_size));
+            glProgramUniform1f(shadow_points.id, shadow_points.depth_radius,
+                               up.radius / shadow_fit.depth_range);
+            glEnable(GL_PROGRAM_POINT_SIZE);
+            glUseProgram(shadow_points.id);
+            if (up.sprites > 0) {
+                glBindVertexArray(sprite_vao);
+                glDrawArrays(GL_POINTS, 0, up.sprites);
+            }
+            if (up.spheres > 0) {
+                glBindVertexArray(sphere_point_vao);
+                glDrawArrays(GL_POINTS, 0, up.spheres);
+            }
+            glDisable(GL_PROGRAM_POINT_SIZE);
+        }
+        shadow_map.end(context.width(), context.height());
+    }
+
+    // After the shadow pass: its target must not be bound for sampling while it is drawn into.
+    void bind_textures() {
+        glActiveTexture(GL_TEXTURE0 + shaders::kEnvironmentUnit);
+        glBindTexture(GL_TEXTURE_CUBE_MAP, environment.texture());
+        glActiveTexture(GL_TEXTURE0 + shaders::kShadowUnit);
+        glBindTexture(GL_TEXTURE_2D, shadow_map.texture());
+        glActiveTexture(GL_TEXTURE0);
+    }
+
+    // After the opaque scene, at the far plane: only the pixels nothing covers pay for the cube map.
+    void draw_sky() {
+        glDepthFunc(GL_LEQUAL);
+        glDepthMask(GL_FALSE);
+        glUseProgram(sky.id);
+        glBindVertexArray(empty_vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glDepthMask(GL_TRUE);
+        glDepthFunc(GL_LESS);
+    }
+
+    const LitProgram& use_lit(int variant) {
+        const LitProgram& p = lit[std::size_t(variant)];
+        glUseProgram(p.id);
+        return p;
+    }
+
+    void draw_static() {
+        if (ground.count + ground_far.count > 0) {
+            // Pushed back in depth so water lying exactly at ground height still wins.
+            glEnable(GL_POLYGON_OFFSET_FILL);
+            glPolygonOffset(2.0f, 8.0f);
+            use_lit(shaders::kLitGround);
+            draw_range(ground);
+            use_lit(shaders::kLitGroundFar);
+            draw_range(ground_far);
+            glDisable(GL_POLYGON_OFFSET_FILL);
+        }
+        const LitProgram& solid = use_lit(shaders::kLitSolid);
+        glProgramUniform3f(solid.id, solid.albedo, 0.60f, 0.60f, 0.62f);
+        glProgramUniform1f(solid.id, solid.shine, 0.0f);
+        draw_range(solids);
+        // Dark anodised metal, so the frame reads as a frame against the pale floor and water.
+        glProgramUniform3f(solid.id, solid.albedo, 0.24f, 0.25f, 0.27f);
+        glProgramUniform1f(solid.id, solid.shine, 0.25f);
+        draw_tank_range(tank_frame);
+    }
+
+    // Blended over what is already there, without writing depth, so later passes see through it.
+    void draw_glass(IndexRange walls) {
+        if (walls.count == 0) return;
+        use_lit(shaders::kLitGlass);
+        glEnable(GL_BLEND);
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // pictures stay opaque
+        glDepthMask(GL_FALSE);
+        draw_tank_range(walls);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_BLEND);
     }
 
     void render(const FrameView& frame) {
         context.make_current();
-        draw_sky();
-        glUseProgram(lit.id);
-        glProgramUniform1f(lit.id, lit.scale, 1.0f);
+        up = {};
+        up.radius = frame.sphere_radius;
+        upload_pool(frame.pool);
+        upload_cylinders(frame.cylinders);
+        upload_mesh(frame.mesh);
+        upload_spheres(frame.sphere_centers, frame.sphere_radius);
+        upload_sprites(frame.sprites, frame.sphere_radius);
+        draw_shadow_pass();
+        bind_textures();
+        glClear(GL_DEPTH_BUFFER_BIT);
         draw_static();
-        glProgramUniform1i(lit.id, lit.material, shaders::kMaterialWater);
-        draw_pool(frame.pool);
-        draw_cylinders(frame.cylinders);
-        draw_mesh(frame.mesh);
-        draw_spheres(frame.sphere_centers, frame.sphere_radius);
+        const LitProgram& water_program = use_lit(shaders::kLitWater);
+        if (up.pool) {
+            glBindVertexArray(pool_vao);
+            glDrawElements(GL_TRIANGLES, pool_index_count, GL_UNSIGNED_INT, nullptr);
+        }
+        draw_fluid(water_program.id, water_program.scale, water_program.clip, true);
+        draw_sky();
+        // Behind the fluid, so the fluid's depth already hides what it covers of them.
+        draw_glass(glass_back);
         if (screen) screen->render(frame.sprites, frame.sphere_radius);
+        draw_glass(glass_front);
         glBindVertexArray(0);
         glFinish();
 #ifndef NDEBUG
@@ -321,6 +571,10 @@ void Renderer::set_scene(const SceneDesc& scene) {
     impl_->set_scene(scene);
 }
 
+void Renderer::set_container_offset(Vec3f offset) {
+    impl_->tank_offset = offset;
+}
+
 void Renderer::set_cylinder_pool(const CylinderLayout& layout, std::uint32_t max_cylinders) {
     impl_->set_cylinder_pool(layout, max_cylinders);
 }
@@ -336,6 +590,10 @@ void Renderer::render(const FrameView& frame) {
 const ScreenFluidPass& Renderer::screen_fluid() const {
     if (!impl_->screen) throw std::logic_error("Renderer::screen_fluid: no screen-space fluid pass");
     return *impl_->screen;
+}
+
+const EnvironmentMap& Renderer::environment() const {
+    return impl_->environment;
 }
 
 int Renderer::width() const {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "jobs/cylinder_layout.h"
+#include "systems/render/environment_map.h"
 #include "systems/render/frame_view.h"
 #include "systems/render/screen_fluid.h"
 #include "systems/scenes/scene.h"
@@ -25,8 +26,14 @@ class Renderer {
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    // Static content: camera, ground plane, colliders, pool grid size. Call once per scene.
+    // Static content: camera, key light and its shadow map's fit, environment (made, or loaded from the
+    // scene's six faces: throws std::runtime_error naming a face file that is missing, not a PNG or of the
+    // wrong size), water colour, ground plane, colliders, pool grid size, an SPH scene's tank. Call once
+    // per scene.
     void set_scene(const SceneDesc& scene);
+    // Where the SPH tank is drawn, from its rest pose (FrameInputs::container_offset): call before
+    // render() in scenes whose container moves. Until called the tank stays at rest.
+    void set_container_offset(Vec3f offset);
     // Builds the shared cylinder index buffer (sent to GL once) and a vertex buffer for `max_cylinders`.
     void set_cylinder_pool(const CylinderLayout& layout, std::uint32_t max_cylinders);
 
@@ -37,6 +44,8 @@ class Renderer {
     void render(const FrameView& frame);
     // The screen-space fluid pass of the last frame (tests); throws when there is none.
     const ScreenFluidPass& screen_fluid() const;
+    // The cube map behind the scene and in its reflections (tests read its faces back).
+    const EnvironmentMap& environment() const;
 
     int width() const;
     int height() const;

@@ -455,14 +455,7 @@ struct ScreenFluidPass::Impl {
         ys.upload(particles.y.data(), n * sizeof(float));
         zs.upload(particles.z.data(), n * sizeof(float));
 
-        // The scene behind: its colour for refraction and its depth for what stands in front of the water.
-        glActiveTexture(GL_TEXTURE2);
-        glBindTexture(GL_TEXTURE_2D, scene_color);
-        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
-        glActiveTexture(GL_TEXTURE3);
-        glBindTexture(GL_TEXTURE_2D, scene_depth);
-        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
-        mark(&timings.copy_scene);
+        copy_scene();
 
         // Depth of the nearest sphere per pixel; depth_b starts as background too, so pixels outside
         // the smoothing's scissor box read as background whichever target smoothing ends in.
@@ -498,7 +491,23 @@ struct ScreenFluidPass::Impl {
         blur_thickness();
         mark(&timings.thickness);
 
-        // Composite over the picture.
+        glEnable(GL_SCISSOR_TEST);  // still the fluid's box
+        composite_over_picture();
+        glDisable(GL_SCISSOR_TEST);
+    }
+
+    // The scene behind: its colour for refraction and its depth for what stands in front of the water.
+    void copy_scene() {
+        glActiveTexture(GL_TEXTURE2);
+        glBindTexture(GL_TEXTURE_2D, scene_color);
+        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
+        glActiveTexture(GL_TEXTURE3);
+        glBindTexture(GL_TEXTURE_2D, scene_depth);
+        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, width, height);
+        mark(&timings.copy_scene);
+    }
+
+    void composite_over_picture() {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         viewport(composite, width, height);
         glActiveTexture(GL_TEXTURE0);
@@ -508,9 +517,8 @@ struct ScreenFluidPass::Impl {
         glActiveTexture(GL_TEXTURE4);
         glBindTexture(GL_TEXTURE_CUBE_MAP, environment);
         glDepthMask(GL_FALSE);
-        glEnable(GL_SCISSOR_TEST);
+        glDisable(GL_DEPTH_TEST);
         full_screen(composite);
-        glDisable(GL_SCISSOR_TEST);
         glDepthMask(GL_TRUE);
         glEnable(GL_DEPTH_TEST);
         glActiveTexture(GL_TEXTURE0);

@@ -327,10 +327,8 @@ void main() {
     float d = texelFetch(u_depth, p, 0).r;
     if (d <= 0.0 || d >= scene_eye_depth(p)) { frag_color = vec4(scene, 1.0); return; }
     vec3 here = eye_point(p, d);
-    vec3 dx = side_difference(p, ivec2(1, 0), d, here);
-    vec3 dy = side_difference(p, ivec2(0, 1), d, here);
     vec3 v = normalize(u_eye - here);
-    vec3 n = cross(dx, dy);
+    vec3 n = cross(side_difference(p, ivec2(1, 0), d, here), side_difference(p, ivec2(0, 1), d, here));
     n = dot(n, n) > 0.0 ? normalize(n) : v;
     if (dot(n, v) < 0.0) n = -n;
     float thickness = texture(u_thickness, (vec2(p) + 0.5) / u_viewport).r;

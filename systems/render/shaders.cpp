@@ -3,7 +3,8 @@
 namespace rivulet::shaders {
 
 // A pale, barely blue sky: water has to stand out from the background in pictures and in the tests
-// that tell them apart by colour.
+// that tell them apart by colour. sky_radiance() (environment_map.cpp) is the same sky plus a glow
+// towards the light; keep the two in step.
 const char* const kFragmentPrelude = R"(#version 450 core
 const vec3 kHorizon = vec3(0.86, 0.88, 0.90);
 const vec3 kZenith = vec3(0.70, 0.77, 0.85);
@@ -14,44 +15,72 @@ vec3 sky_color(vec3 dir) {
 }
 )";
 
+// gl_ClipDistance 0-3 keep what lies inside u_clip (x0, z0, x1, z1) when the renderer enables them.
 const char* const kLitVertex = R"(#version 450 core
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec3 a_offset;
 uniform mat4 u_view_proj;
 uniform float u_scale;
+uniform vec4 u_clip;
 out vec3 v_world;
 out vec3 v_normal;
+out float gl_ClipDistance[4];
 void main() {
     v_world = a_position * u_scale + a_offset;
     v_normal = a_normal;
     gl_Position = u_view_proj * vec4(v_world, 1.0);
+    gl_ClipDistance[0] = v_world.x - u_clip.x;
+    gl_ClipDistance[1] = v_world.z - u_clip.y;
+    gl_ClipDistance[2] = u_clip.z - v_world.x;
+    gl_ClipDistance[3] = u_clip.w - v_world.z;
 }
 )";
 
 const char* const kLitFragment = R"(
 uniform vec3 u_eye;
 uniform vec3 u_light_dir;
-uniform int u_material;
+uniform vec3 u_water_color;
+// The water's Beer-Lambert coefficients, set for the mesh methods' thickness composite (not built yet):
+// until then the linker drops it.
+uniform vec3 u_absorption;
+uniform vec3 u_horizon;  // ground: the environment's mean horizon colour
+uniform vec3 u_albedo;   // solids
+uniform float u_shine;  // solids: strength of a broad highlight
+uniform samplerCube u_environment;
+// Reflections read one fixed level of about kSkyFaceSize² a face: a curved surface would need a level
+// per pixel, which costs llvmpipe as much as the rest of the water's shading, and the sharper levels of
+// a large loaded map would only sparkle on ripples.
+uniform float u_reflection_lod;
+uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_shadow_matrix;
+uniform float u_shadow_texel;
 in vec3 v_world;
 in vec3 v_normal;
 out vec4 frag_color;
 
-vec3 shade_water(vec3 n, vec3 v) {
-    const vec3 base = vec3(0.10, 0.43, 0.78);
-    float ndl = max(dot(n, u_light_dir), 0.0);
-    float ndv = max(dot(n, v), 0.0);
-    // Schlick with water's F0; capped below 1 so silhouettes keep some body colour instead of
-    // turning into the pale sky.
-    float fresnel = 0.02 + 0.98 * pow(1.0 - ndv, 5.0);
-    vec3 body = base * (0.35 + 0.65 * ndl);
-    vec3 reflected = sky_color(reflect(-v, n));
-    float spec = pow(max(dot(n, normalize(u_light_dir + v)), 0.0), 96.0);
-    return mix(body, reflected, 0.6 * fresnel) + vec3(spec * (0.3 + 0.7 * fresnel));
+// How much of the key light reaches this point: 1 lit, 0 in shadow. `n` faces the viewer.
+float light_reaching(vec3 n, float ndl) {
+    // Normal offset: the lookup sits a texel or so off the surface, more where the light grazes it, so a
+    // surface never shadows itself (acne) and contact shadows do not detach (peter-panning).
+    vec3 p = v_world + n * (u_shadow_texel * (1.0 + 2.0 * (1.0 - ndl)));
+    vec3 c = (u_shadow_matrix * vec4(p, 1.0)).xyz;
+    c.z = min(c.z, 1.0);
+    // Two bilinear comparisons (2, 1) texels apart: an edge two to three texels soft (a pixel or two at
+    // the scenes' framing). Each tap costs llvmpipe about as much as the rest of the shading, so two,
+    // not the usual four or more. An odd step also makes water's every-other-texel shadow (kShadowFragment)
+    // average to exactly one half. Outside the map the border compares as lit.
+    vec2 t = vec2(1.0, 0.5) / float(textureSize(u_shadow_map, 0).x);
+    float s = textureLod(u_shadow_map, vec3(c.xy - t, c.z), 0.0) + textureLod(u_shadow_map, vec3(c.xy + t, c.z), 0.0);
+    return ndl > 0.0 ? 0.5 * s : 0.0;
 }
 
-vec3 shade_diffuse(vec3 n, vec3 albedo) {
-    return albedo * (0.45 + 0.55 * max(dot(n, u_light_dir), 0.0));
+float specular(vec3 n, vec3 v, float power) {
+    return pow(max(dot(n, normalize(u_light_dir + v)), 0.0), power);
+}
+
+vec3 shade_diffuse(vec3 albedo, float direct) {
+    return albedo * (0.45 + 0.55 * direct);
 }
 
 void main() {
@@ -61,19 +90,44 @@ void main() {
     vec3 n = len > 1e-6 ? v_normal / len : v;
     // Culling is off, so back faces arrive too: light the side that faces the viewer.
     if (dot(n, v) < 0.0) n = -n;
-    vec3 color;
-    if (u_material == 0) {
-        color = shade_water(n, v);
-    } else if (u_material == 1) {
-        color = shade_diffuse(n, vec3(0.60, 0.60, 0.62));
-    } else {
-        vec2 cell = floor(v_world.xz * 2.0);
-        bool odd = mod(cell.x + cell.y, 2.0) > 0.5;
-        color = shade_diffuse(n, odd ? vec3(0.80, 0.76, 0.67) : vec3(0.70, 0.67, 0.60));
-        // Fade into the horizon colour so the plane's far edge and checker aliasing disappear.
-        color = mix(color, kHorizon, smoothstep(15.0, 55.0, length(to_eye)));
-    }
+#if LIT_VARIANT == 3
+    // Glass: mostly clear with a faint green-blue body, turning into a mirror of the environment towards
+    // grazing angles; that rim is what shows a glass wall's edges. Unshadowed: it is barely there.
+    float fresnel = 0.04 + 0.96 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
+    vec3 reflected = textureLod(u_environment, reflect(-v, n), u_reflection_lod).rgb;
+    float spec = specular(n, v, 240.0);
+    vec3 color = mix(vec3(0.80, 0.92, 0.93), reflected, fresnel) + vec3(spec);
+    frag_color = vec4(color, clamp(0.08 + 0.8 * fresnel + spec, 0.0, 0.9));
+#else
+    float ndl = max(dot(n, u_light_dir), 0.0);
+#if LIT_VARIANT == 4
+    float direct = ndl;  // beyond the shadow map's reach
+#else
+    float direct = ndl * light_reaching(n, ndl);
+#endif
+#if LIT_VARIANT == 0
+    // Water. Schlick with water's F0; capped below 1 so silhouettes keep some body colour instead of
+    // turning into the pale sky.
+    float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
+    // Drawn opaque (the mesh methods have no thickness to absorb over yet): 1.5 times the deep-water
+    // colour is about the body of the few centimetres of water a stream or a splash shows.
+    vec3 body = 1.5 * u_water_color * (0.35 + 0.65 * direct);
+    vec3 reflected = textureLod(u_environment, reflect(-v, n), u_reflection_lod).rgb;
+    float spec = step(1e-4, direct) * specular(n, v, 96.0);
+    vec3 color = mix(body, reflected, 0.6 * fresnel) + vec3(spec * (0.3 + 0.7 * fresnel));
+#elif LIT_VARIANT == 2 || LIT_VARIANT == 4
+    // Ground: a checker, faded into the environment's horizon so the plane's far edge and the checker's
+    // aliasing disappear.
+    vec2 cell = floor(v_world.xz * 2.0);
+    bool odd = mod(cell.x + cell.y, 2.0) > 0.5;
+    vec3 color = shade_diffuse(odd ? vec3(0.80, 0.76, 0.67) : vec3(0.70, 0.67, 0.60), direct);
+    color = mix(color, u_horizon, smoothstep(15.0, 55.0, length(to_eye)));
+#else
+    // Solids: colliders, the pool rim, the tank's frame.
+    vec3 color = shade_diffuse(u_albedo, direct) + vec3(u_shine * direct * specular(n, v, 32.0));
+#endif
     frag_color = vec4(color, 1.0);
+#endif
 }
 )";
 
@@ -91,11 +145,62 @@ uniform vec3 u_forward;
 uniform vec3 u_right;
 uniform vec3 u_up;
 uniform vec2 u_half_extent;
+uniform samplerCube u_environment;
 in vec2 v_ndc;
 out vec4 frag_color;
 void main() {
     vec3 dir = normalize(u_forward + v_ndc.x * u_half_extent.x * u_right + v_ndc.y * u_half_extent.y * u_up);
-    frag_color = vec4(sky_color(dir), 1.0);
+    frag_color = vec4(texture(u_environment, dir).rgb, 1.0);
+}
+)";
+
+const char* const kShadowVertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 2) in vec3 a_offset;
+uniform mat4 u_light_view_proj;
+uniform float u_scale;
+uniform vec4 u_clip;
+out float gl_ClipDistance[4];
+void main() {
+    vec3 world = a_position * u_scale + a_offset;
+    gl_Position = u_light_view_proj * vec4(world, 1.0);
+    gl_ClipDistance[0] = world.x - u_clip.x;
+    gl_ClipDistance[1] = world.z - u_clip.y;
+    gl_ClipDistance[2] = u_clip.z - world.x;
+    gl_ClipDistance[3] = u_clip.w - world.z;
+}
+)";
+
+const char* const kShadowPointVertex = R"(#version 450 core
+layout(location = 0) in float a_x;
+layout(location = 1) in float a_y;
+layout(location = 2) in float a_z;
+uniform mat4 u_light_view_proj;
+uniform float u_point_size;
+void main() {
+    gl_Position = u_light_view_proj * vec4(a_x, a_y, a_z, 1.0);
+    gl_PointSize = u_point_size;
+}
+)";
+
+// Water lets about half the light through: it casts its shadow into every other texel, which the lit
+// shader's filtered lookups average into a half shadow (solids keep every texel).
+const char* const kShadowFragment = R"(#version 450 core
+uniform bool u_water;
+void main() {
+    if (u_water && ((int(gl_FragCoord.x) + int(gl_FragCoord.y)) & 1) == 1) discard;
+}
+)";
+
+const char* const kShadowPointFragment = R"(#version 450 core
+uniform float u_depth_radius;
+void main() {
+    vec2 d = gl_PointCoord * 2.0 - 1.0;
+    float r2 = dot(d, d);
+    if (r2 > 1.0 || ((int(gl_FragCoord.x) + int(gl_FragCoord.y)) & 1) == 1) discard;  // water: a half shadow
+    // The sphere's surface towards the light, not the flat disc through its centre; a little further
+    // back stands in for the polygon offset that points do not get.
+    gl_FragDepth = gl_FragCoord.z - (sqrt(1.0 - r2) - 0.1) * u_depth_radius;
 }
 )";
 

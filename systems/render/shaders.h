@@ -1,24 +1,50 @@
 #pragma once
-// GLSL 4.50 sources. The sky colour function lives in a shared prelude so that the background and the
-// water's reflection agree.
+// GLSL 4.50 sources. The analytic sky colour lives in a shared prelude for passes without a cube map;
+// the renderer's own passes sample the environment cube map (environment_map.h), so the background and
+// every reflection agree.
 
 namespace rivulet::shaders {
 
-// "#version" line and the sky colour, prepended to every fragment shader.
+// "#version" line and the analytic sky colour, prepended to every fragment shader.
 extern const char* const kFragmentPrelude;
 
-// Lit geometry. Attributes: 0 position, 1 normal, 2 per-instance offset (constant zero when not
-// instancing). Uniforms: u_view_proj, u_scale, u_eye, u_light_dir, u_material (kMaterial* below).
+// Lit geometry. Attributes: 0 position, 1 normal, 2 per-instance offset (constant when not instancing:
+// zero, or the tank's displacement). Uniforms: u_view_proj, u_scale, u_clip (x0, z0, x1, z1: the box
+// gl_ClipDistance 0-3 keep, when enabled), u_eye, u_light_dir, u_environment (cube map, unit
+// kEnvironmentUnit), and per variant u_water_color and u_absorption (water), u_albedo and u_shine
+// (solids), u_horizon (ground), u_reflection_lod (water, glass), u_shadow_map (depth comparison, unit
+// kShadowUnit), u_shadow_matrix and u_shadow_texel (all but glass and the far ground). The fragment shader
+// is compiled once per kLit* variant below, with "#define LIT_VARIANT n" after the prelude: llvmpipe runs
+// both sides of every branch for every pixel, so one program per material keeps the lookups a material
+// does not need off its pixels. Glass comes out with alpha for blending; everything else is opaque.
 extern const char* const kLitVertex;
 extern const char* const kLitFragment;
 
-// Full-screen sky from gl_VertexID (3 vertices, no attributes). Uniforms: u_forward, u_right, u_up,
-// u_half_extent (tan of the half field of view, x and y).
+// Full-screen sky from gl_VertexID (3 vertices, no attributes), sampling u_environment. Uniforms:
+// u_forward, u_right, u_up, u_half_extent (tan of the half field of view, x and y).
 extern const char* const kSkyVertex;
 extern const char* const kSkyFragment;
 
-inline constexpr int kMaterialWater = 0;
-inline constexpr int kMaterialCollider = 1;
-inline constexpr int kMaterialGround = 2;
+// Shadow casters as triangles: attribute 0 position, 2 offset (as kLitVertex); u_light_view_proj, u_scale,
+// u_clip (as kLitVertex), u_water (water casts a half shadow, kShadowFragment).
+extern const char* const kShadowVertex;
+// Shadow casters as round points (screen-space fluid particles): attributes 0, 1, 2 the centre's x, y, z
+// (one float each, the particles' arrays as they are); u_light_view_proj, u_point_size (pixels),
+// u_depth_radius (the radius in window depth units).
+extern const char* const kShadowPointVertex;
+extern const char* const kShadowFragment;
+extern const char* const kShadowPointFragment;
+
+inline constexpr int kLitWater = 0;
+inline constexpr int kLitSolid = 1;  // colliders, the pool rim, the SPH tank's frame
+inline constexpr int kLitGround = 2;
+inline constexpr int kLitGlass = 3;      // the SPH tank's walls
+inline constexpr int kLitGroundFar = 4;  // the ground beyond the shadow map's reach: no lookups
+inline constexpr int kLitVariants = 5;
+
+// Texture units the renderer's programs read; the screen-space fluid pass uses 0-3 for its own targets
+// and reads the same environment on 4.
+inline constexpr int kEnvironmentUnit = 4;
+inline constexpr int kShadowUnit = 5;
 
 }  // namespace rivulet::shaders

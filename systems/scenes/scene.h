@@ -9,6 +9,7 @@
 
 #include "jobs/vec3.h"
 #include "systems/scenes/colliders.h"
+#include "systems/scenes/scene_look.h"
 #include "systems/sim/sph_desc.h"
 
 namespace rivulet {
@@ -79,6 +80,7 @@ struct SceneDesc {
     float v_min = 0, v_max = 3;  // extent of the cylinders along +y (scan conversion domain)
     CameraDesc camera;
     ContainerMotion container_motion;
+    SceneLook look;  // water colour and absorption, environment
 };
 
 std::span<const std::string_view> builtin_scene_names();

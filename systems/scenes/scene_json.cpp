@@ -1,6 +1,11 @@
 #include "systems/scenes/scene_json.h"
 
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
+#include <vector>
 
 #include "systems/io/io_limits.h"
 #include "systems/io/json_fields.h"
@@ -65,6 +70,13 @@ void members(SphDesc& d, F&& f) {
     f("cfl", d.cfl), f("max_substeps", d.max_substeps), f("bounds", d.bounds);
 }
 
+// Flat in files ("look": {"water_color", "absorption", "environment"}): three keys do not need two levels.
+template <class F>
+void members(SceneLook& l, F&& f) {
+    f("water_color", l.water.color), f("absorption", l.water.absorption);
+    f("environment", l.environment.faces);
+}
+
 // The simulation kind by name.
 void read(const json& j, SimulationKind& out, const std::string& where) {
     if (j == "streams") {
@@ -87,7 +99,7 @@ void members(SceneDesc& s, F&& f) {
     f("lifetime", s.lifetime), f("gravity", s.gravity), f("ground_y", s.ground_y);
     f("restitution", s.restitution), f("friction", s.friction), f("emitters", s.emitters);
     f("spheres", s.spheres), f("boxes", s.boxes), f("pool", s.pool), f("v_min", s.v_min), f("v_max", s.v_max);
-    f("camera", s.camera), f("container_motion", s.container_motion);
+    f("camera", s.camera), f("container_motion", s.container_motion), f("look", s.look);
 }
 
 SceneDesc scene_from_json(const json& doc, const std::string& origin) {
@@ -108,8 +120,30 @@ json scene_to_json(const SceneDesc& scene) {
     return json_fields::write(scene);
 }
 
+namespace {
+
+// Face images are named relative to the scene file, so a scene and its images move together. Checked
+// here rather than in validate_scene: a recording made elsewhere still replays without the images.
+void resolve_environment(SceneDesc& scene, const std::string& path) {
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    std::vector<std::string>& faces = scene.look.environment.faces;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+        const std::filesystem::path face(faces[i]);
+        if (face.is_relative()) faces[i] = (dir / face).lexically_normal().string();
+        std::ifstream probe(faces[i], std::ios::binary);
+        if (!probe) {
+            fail(path + ": look.environment[" + std::to_string(i) + "]",
+                 "cannot open the face image '" + faces[i] + "': " + std::strerror(errno));
+        }
+    }
+}
+
+}  // namespace
+
 SceneDesc load_scene_file(const std::string& path) {
-    return scene_from_json(io::read_json_file(path, io::kMaxSceneFileBytes, "scene files"), path);
+    SceneDesc scene = scene_from_json(io::read_json_file(path, io::kMaxSceneFileBytes, "scene files"), path);
+    resolve_environment(scene, path);
+    return scene;
 }
 
 SceneDesc resolve_scene(const std::string& name_or_path) {

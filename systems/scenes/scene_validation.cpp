@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <numbers>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "systems/io/text_parse.h"
 #include "systems/scenes/scene_limits.h"
@@ -12,6 +14,11 @@
 
 namespace rivulet {
 using io::number_text;
+
+namespace {
+// Per metre: 1000 turns a millimetre of water opaque, already past any water worth drawing.
+constexpr float kMaxWaterAbsorption = 1000.0f;
+}  // namespace
 
 void validate_scene(const SceneDesc& s, const std::string& origin) {
     const std::string where = origin.empty() ? "scene '" + s.name + "'" : origin;
@@ -59,6 +66,23 @@ void validate_scene(const SceneDesc& s, const std::string& origin) {
     const std::string samples = "[2, " + std::to_string(kMaxPoolSamples) + "]";
     check(s.pool.nx >= 2 && s.pool.nx <= kMaxPoolSamples, "pool.nx must be in " + samples + got(s.pool.nx));
     check(s.pool.nz >= 2 && s.pool.nz <= kMaxPoolSamples, "pool.nz must be in " + samples + got(s.pool.nz));
+    const auto within = [](Vec3f v, float lo, float hi) {
+        return finite(v) && v.x >= lo && v.x <= hi && v.y >= lo && v.y <= hi && v.z >= lo && v.z <= hi;
+    };
+    const auto vec = [](Vec3f v) {
+        return ", got [" + number_text(v.x) + ", " + number_text(v.y) + ", " + number_text(v.z) + "]";
+    };
+    check(within(s.look.water.color, 0, 1),
+          "look.water_color must be in [0, 1] per channel" + vec(s.look.water.color));
+    check(within(s.look.water.absorption, 0, kMaxWaterAbsorption),
+          "look.absorption must be in [0, " + number_text(kMaxWaterAbsorption) + "] per channel (1/m)" +
+              vec(s.look.water.absorption));
+    const std::vector<std::string>& faces = s.look.environment.faces;
+    check(faces.empty() || faces.size() == 6,
+          "look.environment needs six face images (+x, -x, +y, -y, +z, -z) or none, got " +
+              std::to_string(faces.size()));
+    for (std::size_t i = 0; i < faces.size(); ++i)
+        check(!faces[i].empty(), "look.environment[" + std::to_string(i) + "] is an empty path");
     if (s.simulation == SimulationKind::kSph)
         if (const std::string problem = sph_desc_problem(sph_desc_of(s), s.max_particles); !problem.empty())
             check(false, problem);
