@@ -4,7 +4,7 @@
 // that, as users see it. Prints one row per scene and depth filter, medians over the frames.
 //
 //   bench_screen_passes [--threads 2] [--size 1280x720] [--frames 20] [--scenes fountain,dambreak]
-//                       [--filters narrow-range,bilateral,curvature-flow]
+//                       [--filters narrow-range,bilateral,curvature-flow] [--warmup N]
 // One thread count per process: llvmpipe reads its thread count once.
 #include <fmt/format.h>
 
@@ -41,53 +41,56 @@ struct Row {
            particles = 0;
 };
 
-Row measure(const SceneDesc& scene, DepthSmoothing filter, int width, int height, int frames) {
-    Row row;
-    for (bool timed : {true, false}) {
-        PipelineConfig config;
-        config.method = SurfaceMethod::kScreen;
-        config.pipelined = false;  // the passes alone on the machine: extraction does not compete
-        config.size = {width, height};
-        config.screen.smoothing = filter;
-        config.screen.filter_iterations = default_filter_iterations(filter);
-        config.screen.time_passes = timed;
-        FramePipeline pipeline(scene, config);
-        pipeline.warmup();
-        std::vector<double> copy, depth, smoothing, thickness, composite;
-        pipeline.run(frames, [&](int) {
-            const ScreenFluidTimings& t = pipeline.renderer()->screen_fluid().timings();
-            copy.push_back(t.copy_scene), depth.push_back(t.depth), smoothing.push_back(t.smoothing);
-            thickness.push_back(t.thickness), composite.push_back(t.composite);
-        });
-        const std::size_t skip = std::min<std::size_t>(3, pipeline.records().size() / 2);
-        if (timed) {
-            const auto drop = [&](std::vector<double>& v) { v.erase(v.begin(), v.begin() + long(skip)); };
-            for (auto* v : {&copy, &depth, &smoothing, &thickness, &composite}) drop(*v);
-            row.copy = median(copy), row.depth = median(depth), row.smoothing = median(smoothing);
-            row.thickness = median(thickness), row.composite = median(composite);
-            // What the timed render spent outside the fluid's passes: the sky, ground and colliders.
-            std::vector<double> rest;
-            for (std::size_t i = skip; i < pipeline.records().size(); ++i)
-                rest.push_back(pipeline.records()[i].render_ms - copy[i - skip] - depth[i - skip] -
-                               smoothing[i - skip] - thickness[i - skip] - composite[i - skip]);
-            row.scene = median(rest);
-        } else {
-            std::vector<double> render, particles;
-            for (std::size_t i = skip; i < pipeline.records().size(); ++i) {
-                render.push_back(pipeline.records()[i].render_ms);
-                particles.push_back(pipeline.records()[i].particles);
+// One pipeline per scene, warmed up once; each filter swaps the renderer's screen pass in and runs
+// `frames` frames timed pass by pass, then `frames` as users see them.
+std::vector<Row> measure(const SceneDesc& scene, const std::vector<DepthSmoothing>& filters, int width,
+                         int height, int frames) {
+    PipelineConfig config;
+    config.method = SurfaceMethod::kScreen;
+    config.pipelined = false;  // the passes alone on the machine: extraction does not compete
+    config.size = {width, height};
+    FramePipeline pipeline(scene, config);
+    pipeline.warmup();
+    std::vector<Row> rows;
+    const std::size_t skip = 3;
+    for (DepthSmoothing filter : filters) {
+        Row row;
+        for (bool timed : {true, false}) {
+            ScreenFluidSettings settings;
+            settings.smoothing = filter;
+            settings.filter_iterations = default_filter_iterations(filter);
+            settings.time_passes = timed;
+            pipeline.renderer()->set_screen_fluid(settings);
+            std::vector<double> copy, depth, smoothing, thickness, composite, rest, render, particles;
+            pipeline.run(frames, [&](int i) {
+                if (std::size_t(i) < skip) return;
+                const ScreenFluidTimings& t = pipeline.renderer()->screen_fluid().timings();
+                const FrameRecord& rec = pipeline.records().back();
+                copy.push_back(t.copy_scene), depth.push_back(t.depth), smoothing.push_back(t.smoothing);
+                thickness.push_back(t.thickness), composite.push_back(t.composite);
+                // What the timed render spent outside the fluid's passes: sky, ground, shadows, glass.
+                rest.push_back(rec.render_ms - t.copy_scene - t.depth - t.smoothing - t.thickness -
+                               t.composite);
+                render.push_back(rec.render_ms), particles.push_back(rec.particles);
+            });
+            if (timed) {
+                row.copy = median(copy), row.depth = median(depth), row.smoothing = median(smoothing);
+                row.thickness = median(thickness), row.composite = median(composite),
+                row.scene = median(rest);
+            } else {
+                row.render = median(render), row.particles = median(particles);
             }
-            row.render = median(render), row.particles = median(particles);
         }
+        rows.push_back(row);
     }
-    return row;
+    return rows;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"Per-pass milliseconds of the screen-space fluid method"};
-    int threads = 2, frames = 20;
+    int threads = 2, frames = 20, warmup = -1;
     std::string size = "1280x720", scenes = "fountain,dambreak",
                 filters = "narrow-range,bilateral,curvature-flow";
     app.add_option("--threads", threads)->check(CLI::Range(1, 256));
@@ -95,6 +98,7 @@ int main(int argc, char** argv) {
     app.add_option("--size", size);
     app.add_option("--scenes", scenes);
     app.add_option("--filters", filters);
+    app.add_option("--warmup", warmup, "Warm-up frames (default: the scene's)")->check(CLI::Range(0, 100000));
     CLI11_PARSE(app, argc, argv);
     int width = 0, height = 0;
     if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) {
@@ -108,19 +112,26 @@ int main(int argc, char** argv) {
                "particles", "copy", "depth", "smoothing", "thickness", "composite", "smooth+composite",
                "scene", "render");
     try {
+        std::vector<DepthSmoothing> chosen;
+        std::vector<std::string> names = split(filters);
+        for (const std::string& f : names) {
+            DepthSmoothing filter;
+            if (!parse_depth_smoothing(f, filter)) {
+                fmt::print(stderr, "bench_screen_passes: unknown filter {}\n", f);
+                return 2;
+            }
+            chosen.push_back(filter);
+        }
         for (const std::string& name : split(scenes)) {
-            const SceneDesc scene = make_builtin_scene(name);
-            for (const std::string& f : split(filters)) {
-                DepthSmoothing filter;
-                if (!parse_depth_smoothing(f, filter)) {
-                    fmt::print(stderr, "bench_screen_passes: unknown filter {}\n", f);
-                    return 2;
-                }
-                const Row r = measure(scene, filter, width, height, frames);
+            SceneDesc scene = make_builtin_scene(name);
+            if (warmup >= 0) scene.warmup_frames = warmup;
+            const std::vector<Row> rows = measure(scene, chosen, width, height, frames);
+            for (std::size_t k = 0; k < rows.size(); ++k) {
+                const Row& r = rows[k];
                 fmt::print(
                     "{:<10} {:<15} {:>9.0f} {:>6.2f} {:>6.2f} {:>9.2f} {:>9.2f} {:>9.2f} {:>16.2f} {:>6.2f} "
                     "{:>10.2f}\n",
-                    name, f, r.particles, r.copy, r.depth, r.smoothing, r.thickness, r.composite,
+                    name, names[k], r.particles, r.copy, r.depth, r.smoothing, r.thickness, r.composite,
                     r.smoothing + r.composite, r.scene, r.render);
             }
         }
