@@ -97,8 +97,10 @@ void main() {
 
 // The width every smoothing filter shares: a Gaussian whose sigma is a fixed world length, so its screen
 // radius follows depth (far fluid is not smoothed more than near fluid), at most u_max_radius pixels,
-// read with at most u_max_taps taps a side (a stride beyond that).
+// read with at most u_max_taps taps a side (a stride beyond that), and the depth sampler both read.
 const char* const kFilterWidth = R"(
+uniform sampler2D u_depth;
+uniform ivec2 u_step;          // (1, 0) or (0, 1)
 uniform float u_world_sigma;   // world units
 uniform int u_max_radius;      // pixels
 uniform int u_max_taps;        // per side
@@ -109,6 +111,10 @@ FilterWidth filter_width(float d) {
     int radius = min(int(ceil(2.0 * sigma)), u_max_radius);
     int stride = max(1, (radius + u_max_taps - 1) / u_max_taps);
     return FilterWidth(sigma, radius / stride, stride);
+}
+// The depth i pixels along u_step from p, clamped to the target.
+float depth_along(ivec2 p, int i) {
+    return texelFetch(u_depth, clamp(p + i * u_step, ivec2(0), textureSize(u_depth, 0) - 1), 0).r;
 }
 )";
 
@@ -155,8 +161,6 @@ void main() {
 // Background pixels (depth 0) are neither changed nor used, so silhouettes do not bleed into the
 // background.
 const char* const kBilateralFragment = R"(
-uniform sampler2D u_depth;
-uniform ivec2 u_step;          // (1, 0) or (0, 1)
 uniform float u_depth_sigma;   // world units
 out float frag_depth;
 void main() {
@@ -164,11 +168,10 @@ void main() {
     float d = texelFetch(u_depth, p, 0).r;
     if (d <= 0.0) { frag_depth = 0.0; return; }
     FilterWidth f = filter_width(d);
-    ivec2 size = textureSize(u_depth, 0);
     float sum = 0.0, weight = 0.0;
     for (int t = -f.taps; t <= f.taps; ++t) {
         int i = t * f.stride;
-        float s = texelFetch(u_depth, clamp(p + i * u_step, ivec2(0), size - 1), 0).r;
+        float s = depth_along(p, i);
         if (s <= 0.0) continue;
         float ds = (s - d) / u_depth_sigma;
         float w = exp(-0.5 * float(i * i) / (f.sigma * f.sigma) - 0.5 * ds * ds);
@@ -186,8 +189,6 @@ void main() {
 // the nearer sheet leaves no halo), and a sample behind it counts as the pixel's depth + u_clamp. The
 // background counts as behind everything, which rounds silhouettes off without moving them.
 const char* const kNarrowRangeFragment = R"(
-uniform sampler2D u_depth;
-uniform ivec2 u_step;        // (1, 0) or (0, 1)
 uniform float u_threshold;   // world units
 uniform float u_clamp;       // world units
 out float frag_depth;
@@ -197,13 +198,12 @@ void main() {
     float d = texelFetch(u_depth, p, 0).r;
     if (d <= 0.0) { frag_depth = 0.0; return; }
     FilterWidth f = filter_width(d);
-    ivec2 size = textureSize(u_depth, 0);
     float low = d - u_threshold, high = d + u_threshold, behind = d + u_clamp;
     float sum = d, weight = 1.0;
     for (int t = 1; t <= f.taps; ++t) {
         int i = t * f.stride;
-        float a = far_if_empty(texelFetch(u_depth, clamp(p + i * u_step, ivec2(0), size - 1), 0).r);
-        float b = far_if_empty(texelFetch(u_depth, clamp(p - i * u_step, ivec2(0), size - 1), 0).r);
+        float a = far_if_empty(depth_along(p, i));
+        float b = far_if_empty(depth_along(p, -i));
         if (a < low || b < low) continue;
         a = a > high ? behind : a;
         b = b > high ? behind : b;
