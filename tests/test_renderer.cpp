@@ -172,15 +172,14 @@ TEST(Renderer, DrawsMeshAndColliders) {
     scene.spheres.push_back({{-0.8f, 0.4f, 0}, 0.4f});
     scene.boxes.push_back({{0.5f, 0, -0.3f}, {1.1f, 0.6f, 0.3f}});
     r.set_scene(scene);
-    // A single upward-facing quad as a generic mesh.
-    const float verts[] = {-0.3f, 0.9f, -0.3f, 0, 1, 0, -0.3f, 0.9f, 0.3f,  0, 1, 0,
-                           0.3f,  0.9f, 0.3f,  0, 1, 0, 0.3f,  0.9f, -0.3f, 0, 1, 0};
-    const std::uint32_t idx[] = {0, 1, 2, 0, 2, 3};
+    // A closed slab of water as a generic mesh: the water absorbs over its thickness.
+    const test::BoxMesh slab = test::box_mesh({-0.3f, 0.7f, -0.3f}, {0.3f, 0.9f, 0.3f});
     FrameView frame;
-    frame.mesh = {verts, idx};
+    frame.mesh = {slab.vertices, slab.indices};
     r.render(frame);
     const Picture pic(r);
-    EXPECT_TRUE(IsWater(pic.at_world(scene.camera, {0, 0.9f, 0})));
+    // Its face towards the camera (the top is seen at grazing angles and mirrors the sky).
+    EXPECT_TRUE(IsWater(pic.at_world(scene.camera, {0, 0.8f, 0.3f})));
     const Rgb sphere = pic.at_world(scene.camera, {-0.8f, 0.4f, 0.4f});
     const Rgb box = pic.at_world(scene.camera, {0.8f, 0.3f, 0.3f});
     for (Rgb c : {sphere, box}) {

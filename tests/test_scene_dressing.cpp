@@ -634,15 +634,14 @@ TEST(Tank, FollowsTheContainerOffset) {
 TEST(Tank, TheFluidIsClippedToTheGlass) {
     const SceneDesc tank = make_builtin_scene("dambreak");
     const BoxCollider g = tank_glass_box(tank);
-    // A sheet of water at mid height reaching well past the tank on both sides in x.
+    // A slab of water at mid height reaching well past the tank on both sides in x: clipped to the
+    // glass, it still absorbs over its whole closed surface's thickness.
     const float y = 0.5f * (g.min.y + g.max.y), x0 = g.min.x - 0.6f, x1 = g.max.x + 0.6f;
-    const float verts[] = {x0, y, g.min.z, 0, 1, 0, x0, y, g.max.z, 0, 1, 0,
-                           x1, y, g.max.z, 0, 1, 0, x1, y, g.min.z, 0, 1, 0};
-    const std::uint32_t idx[] = {0, 1, 2, 0, 2, 3};
+    const test::BoxMesh slab = test::box_mesh({x0, y - 0.1f, g.min.z}, {x1, y, g.max.z});
     Renderer r(RenderSettings{kW, kH});
     r.set_scene(tank);
     FrameView frame;
-    frame.mesh = {verts, idx};
+    frame.mesh = {slab.vertices, slab.indices};
     r.render(frame);
     keep_picture(r, "tank_clip");
     const Picture pic(r);

@@ -105,6 +105,9 @@ void ScreenOptions::add_to(CLI::App& cmd) {
     cmd.add_option("--filter-radius", settings.filter_radius,
                    "Screen-space fluid: smoothing width in particle radii (the pixels follow depth)")
         ->capture_default_str();
+    cmd.add_option("--spray", settings.spray_neighbours,
+                   "Screen-space fluid: particles with fewer than N neighbours are drawn as spray (0: none)")
+        ->capture_default_str();
 }
 
 void SlicesOptions::add_to(CLI::App& cmd) {

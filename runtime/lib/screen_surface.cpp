@@ -2,23 +2,40 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
+#include "jobs/chunk_prefix.h"
 #include "jobs/mesh_hash.h"
 #include "systems/render/renderer.h"
 
 namespace rivulet {
 
-ScreenSurface::ScreenSurface(const ScreenFluidSettings& settings, std::size_t max_particles)
+ScreenSurface::ScreenSurface(const ScreenFluidSettings& settings, std::size_t max_particles,
+                             float particle_radius)
     : settings_(settings), max_particles_(max_particles) {
     if (const std::string problem = settings.validate(); !problem.empty())
         throw std::invalid_argument(problem);
     for (Staged& s : staged_)
         s.x.reserve(max_particles), s.y.reserve(max_particles), s.z.reserve(max_particles);
+    if (!spray()) return;
+    if (!(particle_radius > 0.0f))
+        throw std::invalid_argument("screen-space spray needs the scene's particle radius");
+    grid_.cell = settings.spray_distance * particle_radius;
+    grid_.bucket_bits = SprayGrid::bits_for(max_particles);
+    // The chunk size depends on the scene only, so the chunks (and the sort) are the same at any thread
+    // count.
+    spray_chunk_ = std::max(kMinSprayChunk, (max_particles + kMaxSprayChunks - 1) / kMaxSprayChunks);
+    const std::size_t buckets = grid_.buckets(), n = std::max<std::size_t>(max_particles, 1);
+    for (Staged& s : staged_) s.sx.reserve(n), s.sy.reserve(n), s.sz.reserve(n);
+    keys_.reserve(n), neighbours_.reserve(n);
+    cell_x_.reserve(n), cell_y_.reserve(n), cell_z_.reserve(n), cell_key_.reserve(n);
+    bucket_counts_.reserve(buckets * kMaxSprayChunks), cursors_.reserve(buckets * kMaxSprayChunks);
+    bucket_start_.reserve(buckets + 1);
 }
 
 FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                           std::function<int()> slot, FrameGraph::JobId after) {
-    return graph.parallel(
+    const FrameGraph::JobId stage = graph.parallel(
         "screen.stage",
         [positions] { return std::max<std::size_t>((positions().size() + kChunk - 1) / kChunk, 1); },
         [this, positions, slot](std::size_t c) {
@@ -32,17 +49,98 @@ FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<Const
             std::copy(p.z.begin() + begin, p.z.begin() + end, s.z.data() + begin);
         },
         {after});
+    return spray() ? add_spray_jobs(graph, slot, stage) : stage;
 }
 
-SurfaceStats ScreenSurface::stats(int) const {
-    return {};
+ConstPositions ScreenSurface::staged_chunk(const Staged& s, std::size_t c) const {
+    const std::size_t begin = std::min(c * spray_chunk_, s.count);
+    const std::size_t end = std::min(begin + spray_chunk_, s.count);
+    return {s.x.span(end).subspan(begin), s.y.span(end).subspan(begin), s.z.span(end).subspan(begin)};
+}
+
+FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::function<int()>& slot,
+                                                FrameGraph::JobId after) {
+    const std::size_t buckets = grid_.buckets();
+    const auto chunks = [this, slot] { return spray_chunks(staged_[slot()].count); };
+    const FrameGraph::JobId cells = graph.parallel(
+        "screen.spray_grid", chunks,
+        [this, slot, buckets](std::size_t c) {
+            const ConstPositions p = staged_chunk(staged_[slot()], c);
+            spray_grid_chunk(grid_, p, keys_.span(c * spray_chunk_ + p.size()).subspan(c * spray_chunk_),
+                             bucket_counts_.span((c + 1) * buckets).subspan(c * buckets));
+        },
+        {after});
+    const FrameGraph::JobId offsets =
+        graph.serial("screen.spray_offsets",
+                     [this, slot, buckets] {
+                         const auto n = static_cast<std::uint32_t>(spray_chunks(staged_[slot()].count));
+                         chunk_major_prefix(static_cast<std::uint32_t>(buckets), n, buckets,
+                                            bucket_counts_.span(n * buckets), cursors_.span(n * buckets),
+                                            bucket_start_.span(buckets + 1));
+                     },
+                     {cells});
+    const FrameGraph::JobId scatter = graph.parallel(
+        "screen.spray_scatter", chunks,
+        [this, slot, buckets](std::size_t c) {
+            const Staged& s = staged_[slot()];
+            const ConstPositions p = staged_chunk(s, c);
+            spray_scatter_chunk(grid_, p, keys_.span(c * spray_chunk_ + p.size()).subspan(c * spray_chunk_),
+                                cursors_.span((c + 1) * buckets).subspan(c * buckets),
+                                {cell_x_.span(s.count), cell_y_.span(s.count), cell_z_.span(s.count),
+                                 cell_key_.span(s.count)});
+        },
+        {offsets});
+    const FrameGraph::JobId count = graph.parallel(
+        "screen.spray_count", chunks,
+        [this, slot, buckets](std::size_t c) {
+            const Staged& s = staged_[slot()];
+            const ConstPositions p = staged_chunk(s, c);
+            const std::size_t at = c * spray_chunk_;
+            const SprayCells sorted{bucket_start_.span(buckets + 1), cell_x_.span(s.count),
+                                    cell_y_.span(s.count), cell_z_.span(s.count), cell_key_.span(s.count)};
+            chunk_fluid_[c] = spray_count_chunk(grid_, sorted, p, keys_.span(at + p.size()).subspan(at),
+                                                static_cast<std::uint32_t>(settings_.spray_neighbours),
+                                                neighbours_.span(at + p.size()).subspan(at));
+        },
+        {scatter});
+    return graph.parallel(
+        "screen.spray_split", chunks,
+        [this, slot](std::size_t c) {
+            Staged& s = staged_[slot()];
+            const std::size_t n = spray_chunks(s.count);
+            // Each chunk sums the few chunk counts it needs itself: no serial job between the passes.
+            std::size_t fluid_before = 0, fluid = 0;
+            for (std::size_t k = 0; k < n; ++k) (k < c ? fluid_before : fluid) += chunk_fluid_[k];
+            fluid += fluid_before;
+            if (c == 0) s.fluid = fluid;
+            const ConstPositions p = staged_chunk(s, c);
+            const std::size_t at = c * spray_chunk_;
+            const SprayPositionsOut out{s.sx.span(s.count), s.sy.span(s.count), s.sz.span(s.count)};
+            spray_split_chunk(p, neighbours_.span(at + p.size()).subspan(at),
+                              static_cast<std::uint32_t>(settings_.spray_neighbours), fluid_before,
+                              fluid + (at - fluid_before), out, out);
+        },
+        {count});
+}
+
+SurfaceStats ScreenSurface::stats(int slot) const {
+    SurfaceStats st;
+    if (spray()) st.isolated = static_cast<std::uint32_t>(staged_[slot].count - staged_[slot].fluid);
+    return st;
 }
 
 std::uint64_t ScreenSurface::output_hash(int slot) const {
     const Staged& s = staged_[slot];
-    const std::uint64_t h[3] = {hash_bytes(s.x.data(), s.count * sizeof(float)),
-                                hash_bytes(s.y.data(), s.count * sizeof(float)),
-                                hash_bytes(s.z.data(), s.count * sizeof(float))};
+    if (!spray()) {
+        const std::uint64_t h[3] = {hash_bytes(s.x.data(), s.count * sizeof(float)),
+                                    hash_bytes(s.y.data(), s.count * sizeof(float)),
+                                    hash_bytes(s.z.data(), s.count * sizeof(float))};
+        return hash_bytes(h, sizeof h);
+    }
+    // The water and the spray lie end to end; the boundary between them is hashed too.
+    const std::uint64_t h[4] = {hash_bytes(s.sx.data(), s.count * sizeof(float)),
+                                hash_bytes(s.sy.data(), s.count * sizeof(float)),
+                                hash_bytes(s.sz.data(), s.count * sizeof(float)), s.fluid};
     return hash_bytes(h, sizeof h);
 }
 
@@ -52,7 +150,15 @@ void ScreenSurface::prepare_renderer(Renderer& renderer) const {
 
 void ScreenSurface::fill_view(int slot, FrameView& view) const {
     const Staged& s = staged_[slot];
-    view.sprites = {s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)};
+    if (!spray()) {
+        view.sprites = {s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)};
+        view.spray = {};
+        return;
+    }
+    const std::size_t f = s.fluid, k = s.count - s.fluid;
+    view.sprites = {s.sx.span(f), s.sy.span(f), s.sz.span(f)};
+    view.spray = {s.sx.span(s.count).subspan(f, k), s.sy.span(s.count).subspan(f, k),
+                  s.sz.span(s.count).subspan(f, k)};
 }
 
 }  // namespace rivulet

@@ -1,7 +1,11 @@
 #pragma once
 // Screen-space fluid (seed 004 §3.1) as the frame pipeline's surface: the workers stage the frame's
 // particle positions into the slot (screen.stage, per chunk); the render thread draws them with the
-// Renderer's screen-space fluid pass. No mesh is made.
+// Renderer's screen-space fluid pass. No mesh is made. With spray on, the staged particles are then split
+// by their neighbour counts (jobs/spray_split.h) into the water and the spray the pass draws as sprites.
+#include <algorithm>
+
+#include "jobs/spray_split.h"
 #include "runtime/lib/surface_system.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/render/screen_fluid.h"
@@ -11,12 +15,18 @@ namespace rivulet {
 class ScreenSurface final : public SurfaceSystem {
   public:
     static constexpr std::size_t kChunk = 16384;  // particles per staging item
+    // The spray jobs' chunks are at least this large and at most kMaxSprayChunks per frame: every chunk
+    // keeps a row of bucket counts, so their number bounds the scratch and the prefix pass.
+    static constexpr std::size_t kMinSprayChunk = 4096, kMaxSprayChunks = 32;
 
-    ScreenSurface(const ScreenFluidSettings& settings, std::size_t max_particles);
+    // `particle_radius` (the scene's) scales the spray's search distance; spray needs it to be > 0.
+    // Throws std::invalid_argument on bad settings.
+    ScreenSurface(const ScreenFluidSettings& settings, std::size_t max_particles, float particle_radius);
 
     SurfaceMethod method() const override { return SurfaceMethod::kScreen; }
     FrameGraph::JobId add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                std::function<int()> slot, FrameGraph::JobId after) override;
+    // `isolated`: the particles drawn as spray.
     SurfaceStats stats(int slot) const override;
     std::uint64_t output_hash(int slot) const override;
     void prepare_renderer(Renderer& renderer) const override;
@@ -26,10 +36,31 @@ class ScreenSurface final : public SurfaceSystem {
     struct Staged {
         AlignedArray<float> x, y, z;
         std::size_t count = 0;
+        // With spray: the staged particles split, the water's [0, fluid) then the spray's [fluid, count),
+        // each in particle order.
+        AlignedArray<float> sx, sy, sz;
+        std::size_t fluid = 0;
     };
+    bool spray() const { return settings_.spray_neighbours > 0; }
+    std::size_t spray_chunks(std::size_t n) const {
+        return std::max<std::size_t>((n + spray_chunk_ - 1) / spray_chunk_, 1);
+    }
+    ConstPositions staged_chunk(const Staged& s, std::size_t c) const;
+    FrameGraph::JobId add_spray_jobs(FrameGraph& graph, const std::function<int()>& slot,
+                                     FrameGraph::JobId after);
+
     ScreenFluidSettings settings_;
     std::size_t max_particles_;
     std::array<Staged, kFrameSlots> staged_;
+
+    // Spray scratch, shared by the slots (one frame's jobs run at a time).
+    SprayGrid grid_;
+    std::size_t spray_chunk_ = kMinSprayChunk;
+    AlignedArray<std::uint64_t> keys_;
+    AlignedArray<std::uint32_t> bucket_counts_, cursors_, bucket_start_, neighbours_;
+    AlignedArray<float> cell_x_, cell_y_, cell_z_;
+    AlignedArray<std::uint64_t> cell_key_;
+    std::array<std::uint32_t, kMaxSprayChunks> chunk_fluid_{};
 };
 
 }  // namespace rivulet

@@ -43,7 +43,7 @@ std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, 
             return std::make_unique<SlicesSurface>(s, scene.max_particles, threads);
         }
         case SurfaceMethod::kScreen:
-            return std::make_unique<ScreenSurface>(config.screen, scene.max_particles);
+            return std::make_unique<ScreenSurface>(config.screen, scene.max_particles, scene.particle_radius);
     }
     throw std::invalid_argument("unknown surface method");
 }

@@ -42,6 +42,9 @@ struct FrameView {
     std::span<const float> sphere_centers;  // xyz per isolated particle, drawn as instanced low-res spheres
     float sphere_radius = 0;
     ParticleSpritesView sprites;  // drawn by the screen-space fluid pass, as spheres of sphere_radius
+    // Isolated particles the screen-space fluid pass draws as small bright sprites after the water (not
+    // part of its depth or thickness); empty unless the method splits spray off.
+    ParticleSpritesView spray;
     HeightFieldView pool;
 };
 

@@ -33,8 +33,9 @@ LitPrograms build_lit_programs() {
     // What each variant reads (the linker drops the rest): a misspelt name fails here rather than as a
     // quietly wrong picture.
     static const std::vector<const char*> kReads[shaders::kLitVariants] = {
-        {"u_water_color", "u_reflection_lod", "u_environment", "u_shadow_map", "u_shadow_matrix",
-         "u_shadow_texel"},
+        {"u_water_color", "u_absorption", "u_refraction", "u_scene_color", "u_thickness", "u_viewport",
+         "u_slab_depth", "u_right", "u_up", "u_reflection_lod", "u_environment", "u_shadow_map",
+         "u_shadow_matrix", "u_shadow_texel"},
         {"u_albedo", "u_shine", "u_shadow_map", "u_shadow_matrix", "u_shadow_texel"},
         {"u_horizon", "u_shadow_map", "u_shadow_matrix", "u_shadow_texel"},
         {"u_reflection_lod", "u_environment"},
@@ -45,8 +46,9 @@ LitPrograms build_lit_programs() {
         LitProgram& p = programs[std::size_t(v)];
         const std::string name = "lit." + std::to_string(v);
         const std::string define = "#define LIT_VARIANT " + std::to_string(v) + "\n";
-        p.id = build({shaders::kLitVertex},
-                     {shaders::kFragmentPrelude, define.c_str(), shaders::kLitFragment}, name);
+        p.id = build(
+            {shaders::kLitVertex},
+            {shaders::kFragmentPrelude, define.c_str(), shaders::kWaterShading, shaders::kLitFragment}, name);
         p.view_proj = uniform_location(p.id, "u_view_proj", name);
         p.scale = uniform_location(p.id, "u_scale", name);
         p.clip = uniform_location(p.id, "u_clip", name);
@@ -61,6 +63,13 @@ LitPrograms build_lit_programs() {
         p.reflection_lod = glGetUniformLocation(p.id, "u_reflection_lod");
         p.shadow_matrix = glGetUniformLocation(p.id, "u_shadow_matrix");
         p.shadow_texel = glGetUniformLocation(p.id, "u_shadow_texel");
+        p.right = glGetUniformLocation(p.id, "u_right");
+        p.up = glGetUniformLocation(p.id, "u_up");
+        p.viewport = glGetUniformLocation(p.id, "u_viewport");
+        p.slab_depth = glGetUniformLocation(p.id, "u_slab_depth");
+        p.refraction = glGetUniformLocation(p.id, "u_refraction");
+        glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_scene_color"), shaders::kSceneColorUnit);
+        glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_thickness"), shaders::kThicknessUnit);
         glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_environment"), shaders::kEnvironmentUnit);
         glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_shadow_map"), shaders::kShadowUnit);
     }
@@ -75,6 +84,17 @@ SkyProgram build_sky_program() {
     p.up = uniform_location(p.id, "u_up", "sky");
     p.half_extent = uniform_location(p.id, "u_half_extent", "sky");
     sampler_unit(p.id, "u_environment", shaders::kEnvironmentUnit, "sky");
+    return p;
+}
+
+ThicknessProgram build_thickness_program() {
+    ThicknessProgram p;
+    const char* name = "thickness";
+    p.id = build({shaders::kLitVertex}, {shaders::kMeshThicknessFragment}, name);
+    p.view_proj = uniform_location(p.id, "u_view_proj", name);
+    p.scale = uniform_location(p.id, "u_scale", name);
+    p.clip = uniform_location(p.id, "u_clip", name);
+    p.eye = uniform_location(p.id, "u_eye", name);
     return p;
 }
 

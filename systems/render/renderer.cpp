@@ -1,6 +1,7 @@
 #include "systems/render/renderer.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -18,6 +19,7 @@
 #include "systems/render/scene_geometry.h"
 #include "systems/render/shaders.h"
 #include "systems/render/shadow_map.h"
+#include "systems/render/water_backdrop.h"
 
 namespace rivulet {
 namespace {
@@ -53,7 +55,9 @@ struct Renderer::Impl {
     SkyProgram sky;
     ShadowProgram shadow;
     ShadowPointProgram shadow_points;
+    ThicknessProgram thickness;
     ShadowMap shadow_map;
+    WaterBackdrop backdrop;
     ShadowFit shadow_fit;
     float max_point_size = 1;
     EnvironmentMap environment;
@@ -93,11 +97,17 @@ struct Renderer::Impl {
     CameraDesc camera_desc;  // of the scene, for passes set up after it
     WaterLook water;
     Vec3f light{0, 1, 0};
+    // The pool's water is a height field with no bottom: the lit water absorbs over this depth instead.
+    float pool_depth = 0;
 
     GLuint pool_vbo = 0, pool_ibo = 0, pool_vao = 0;
     int pool_nx = 0, pool_nz = 0;
     GLsizei pool_index_count = 0;
     std::vector<float> pool_vertices;
+
+    bool time_passes = false;
+    RenderTimings timings;
+    std::chrono::steady_clock::time_point mark_time;
 
     // What this frame uploaded, drawn by both the shadow and the main pass.
     struct Uploaded {
@@ -112,11 +122,17 @@ struct Renderer::Impl {
           sky(build_sky_program()),
           shadow(build_shadow_program()),
           shadow_points(build_shadow_point_program()),
-          shadow_map(kShadowMapSize) {
+          thickness(build_thickness_program()),
+          shadow_map(kShadowMapSize),
+          backdrop(width, height) {
         for (const LitProgram& p : lit) {
             glProgramUniform1f(p.id, p.scale, 1.0f);
             glProgramUniform4f(p.id, p.clip, -kNoClip, -kNoClip, kNoClip, kNoClip);
+            glProgramUniform2f(p.id, p.viewport, static_cast<float>(width), static_cast<float>(height));
+            glProgramUniform1f(p.id, p.refraction, shaders::kRefraction);
         }
+        // The thickness is taken of the whole closed surface, never clipped (draw_thickness).
+        glProgramUniform4f(thickness.id, thickness.clip, -kNoClip, -kNoClip, kNoClip, kNoClip);
         glProgramUniform4f(shadow.id, shadow.clip, -kNoClip, -kNoClip, kNoClip, kNoClip);
         glGenVertexArrays(1, &empty_vao);
         create_static_objects();
@@ -200,7 +216,11 @@ struct Renderer::Impl {
             glProgramUniformMatrix4fv(p.id, p.view_proj, 1, GL_FALSE, vp.m);
             glProgramUniform3f(p.id, p.eye, b.eye.x, b.eye.y, b.eye.z);
             glProgramUniform3f(p.id, p.light_dir, light.x, light.y, light.z);
+            glProgramUniform3f(p.id, p.right, b.right.x, b.right.y, b.right.z);
+            glProgramUniform3f(p.id, p.up, b.up.x, b.up.y, b.up.z);
         }
+        glProgramUniformMatrix4fv(thickness.id, thickness.view_proj, 1, GL_FALSE, vp.m);
+        glProgramUniform3f(thickness.id, thickness.eye, b.eye.x, b.eye.y, b.eye.z);
         glProgramUniform3f(sky.id, sky.forward, b.forward.x, b.forward.y, b.forward.z);
         glProgramUniform3f(sky.id, sky.right, b.right.x, b.right.y, b.right.z);
         glProgramUniform3f(sky.id, sky.up, b.up.x, b.up.y, b.up.z);
@@ -259,6 +279,8 @@ struct Renderer::Impl {
         clip_fluid = scene.simulation == SimulationKind::kSph;
         if (clip_fluid) glass_box = tank_glass_box(scene);
         if (scene.pool.enabled) ensure_pool(scene.pool.nx, scene.pool.nz);
+        // A pool at ground level still shows some body: its surface dips and the eye wants water there.
+        pool_depth = std::max(scene.pool.level - scene.ground_y, 0.1f);
         check_gl("Renderer::set_scene");
     }
 
@@ -530,8 +552,46 @@ struct Renderer::Impl {
         glDisable(GL_BLEND);
     }
 
+    bool has_fluid_surface() const { return up.cylinder_draws > 0 || up.mesh_indices > 0 || up.spheres > 0; }
+
+    // The pool and the mesh methods' fluid, over the scene drawn so far, which they refract. The
+    // thickness is of the whole closed surface: clipping it to the tank would open it, and a ray that
+    // enters and never leaves sums to nonsense.
+    void draw_water() {
+        if (!up.pool && !has_fluid_surface()) return;
+        backdrop.copy_scene();
+        if (has_fluid_surface()) {
+            backdrop.begin_thickness();
+            glUseProgram(thickness.id);
+            draw_fluid(thickness.id, thickness.scale, -1, true);
+            backdrop.end_thickness();
+        }
+        mark(&timings.water_thickness);
+        backdrop.bind();
+        const LitProgram& water_program = use_lit(shaders::kLitWater);
+        if (up.pool) {
+            glProgramUniform1f(water_program.id, water_program.slab_depth, pool_depth);
+            glBindVertexArray(pool_vao);
+            glDrawElements(GL_TRIANGLES, pool_index_count, GL_UNSIGNED_INT, nullptr);
+            glProgramUniform1f(water_program.id, water_program.slab_depth, 0.0f);
+        }
+        draw_fluid(water_program.id, water_program.scale, water_program.clip, true);
+        mark(&timings.water);
+    }
+
+    // With time_passes: waits for GL and charges the time since the last mark to `slot`.
+    void mark(double* slot) {
+        if (!time_passes) return;
+        glFinish();
+        const auto now = std::chrono::steady_clock::now();
+        if (slot) *slot = std::chrono::duration<double, std::milli>(now - mark_time).count();
+        mark_time = now;
+    }
+
     void render(const FrameView& frame) {
         context.make_current();
+        timings = {};
+        mark(nullptr);
         up = {};
         up.radius = frame.sphere_radius;
         upload_pool(frame.pool);
@@ -539,23 +599,22 @@ struct Renderer::Impl {
         upload_mesh(frame.mesh);
         upload_spheres(frame.sphere_centers, frame.sphere_radius);
         upload_sprites(frame.sprites, frame.sphere_radius);
+        mark(&timings.upload);
         draw_shadow_pass();
+        mark(&timings.shadow);
         bind_textures();
         glClear(GL_DEPTH_BUFFER_BIT);
         draw_static();
-        const LitProgram& water_program = use_lit(shaders::kLitWater);
-        if (up.pool) {
-            glBindVertexArray(pool_vao);
-            glDrawElements(GL_TRIANGLES, pool_index_count, GL_UNSIGNED_INT, nullptr);
-        }
-        draw_fluid(water_program.id, water_program.scale, water_program.clip, true);
         draw_sky();
-        // Behind the fluid, so the fluid's depth already hides what it covers of them.
         draw_glass(glass_back);
-        if (screen) screen->render(frame.sprites, frame.sphere_radius);
+        mark(&timings.scene);
+        draw_water();
+        if (screen) screen->render(frame.sprites, frame.spray, frame.sphere_radius);
+        mark(&timings.screen);
         draw_glass(glass_front);
         glBindVertexArray(0);
         glFinish();
+        mark(&timings.finish);
 #ifndef NDEBUG
         check_gl("Renderer::render");
 #endif
@@ -590,6 +649,18 @@ void Renderer::render(const FrameView& frame) {
 const ScreenFluidPass& Renderer::screen_fluid() const {
     if (!impl_->screen) throw std::logic_error("Renderer::screen_fluid: no screen-space fluid pass");
     return *impl_->screen;
+}
+
+void Renderer::set_time_passes(bool on) {
+    impl_->time_passes = on;
+}
+
+const RenderTimings& Renderer::timings() const {
+    return impl_->timings;
+}
+
+const WaterBackdrop& Renderer::water_backdrop() const {
+    return impl_->backdrop;
 }
 
 const EnvironmentMap& Renderer::environment() const {

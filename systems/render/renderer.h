@@ -10,6 +10,7 @@
 #include "systems/render/environment_map.h"
 #include "systems/render/frame_view.h"
 #include "systems/render/screen_fluid.h"
+#include "systems/render/water_backdrop.h"
 #include "systems/scenes/scene.h"
 
 namespace rivulet {
@@ -17,6 +18,15 @@ namespace rivulet {
 struct RenderSettings {
     int width = 1280;
     int height = 720;
+};
+
+// Milliseconds of each part of the last render() with Renderer::set_time_passes(true) (GL finished after
+// each; else zeros). `scene`: ground, solids, sky and the tank's back glass; `water_thickness`: the scene
+// copy and the mesh methods' thickness; `water`: the pool's and the meshes' lit water; `screen`: the
+// screen-space fluid pass (its own parts: ScreenFluidPass::timings); `finish`: the front glass and the
+// wait for the picture.
+struct RenderTimings {
+    double upload = 0, shadow = 0, scene = 0, water_thickness = 0, water = 0, screen = 0, finish = 0;
 };
 
 class Renderer {
@@ -44,6 +54,11 @@ class Renderer {
     void render(const FrameView& frame);
     // The screen-space fluid pass of the last frame (tests); throws when there is none.
     const ScreenFluidPass& screen_fluid() const;
+    // Benchmarks: finish GL after each part of render() and time it (slows the frame).
+    void set_time_passes(bool on);
+    const RenderTimings& timings() const;
+    // The mesh methods' water targets: the last frame's fluid thickness (tests).
+    const WaterBackdrop& water_backdrop() const;
     // The cube map behind the scene and in its reflections (tests read its faces back).
     const EnvironmentMap& environment() const;
 

@@ -64,6 +64,11 @@ std::string ScreenFluidSettings::validate() const {
         return fmt::format("thickness downsampling must be in [1, 8], got {}", thickness_downsample);
     if (!(thickness_blur >= 0.0f && thickness_blur <= 16.0f))
         return fmt::format("thickness blur must be in [0, 16] pixels, got {}", thickness_blur);
+    if (spray_neighbours < 0 || spray_neighbours > kMaxSprayNeighbours)
+        return fmt::format("--spray must be in [0, {}] neighbours, got {}", kMaxSprayNeighbours,
+                           spray_neighbours);
+    if (!(spray_distance >= 1.0f && spray_distance <= 16.0f))
+        return fmt::format("spray distance must be in [1, 16] particle radii, got {}", spray_distance);
     return {};
 }
 
@@ -165,23 +170,49 @@ Program build_smoothing(DepthSmoothing s) {
 
 using Clock = std::chrono::steady_clock;
 
+// Spray sprites' diameter in particle diameters: smaller than the particle, so drops read as droplets
+// rather than as blobs of the water's size.
+constexpr float kSpraySize = 0.6f;
+
+// A vertex array reading three float columns as attributes 0-2, advancing per instance (divisor 1) or
+// per vertex (0).
+GLuint column_vao(std::initializer_list<const GrowingBuffer*> columns, GLuint divisor) {
+    GLuint v = 0;
+    glGenVertexArrays(1, &v);
+    glBindVertexArray(v);
+    GLuint a = 0;
+    for (const GrowingBuffer* c : columns) {
+        glBindVertexBuffer(a, c->id, 0, sizeof(float));
+        glVertexBindingDivisor(a, divisor);
+        glEnableVertexAttribArray(a);
+        glVertexAttribFormat(a, 1, GL_FLOAT, GL_FALSE, 0);
+        glVertexAttribBinding(a, a);
+        ++a;
+    }
+    glBindVertexArray(0);
+    return v;
+}
+
 }  // namespace
 
 struct ScreenFluidPass::Impl {
     ScreenFluidSettings settings;
     int width, height, thick_w, thick_h;
-    Program depth, thickness, close_holes, smoothing, thickness_blur, composite;
+    Program depth, thickness, close_holes, smoothing, thickness_blur, composite, spray;
     SmoothingUniforms smooth_u;
     GLint depth_radius = -1, thickness_radius = -1;
     GLint blur_step = -1, blur_sigma = -1, close_holes_jump = -1, close_holes_gap = -1;
     GLint composite_light = -1, composite_absorption = -1, composite_water = -1,
           composite_has_environment = -1;
+    GLint spray_radius = -1, spray_water = -1;
     GLuint depth_a = 0, depth_b = 0, depth_test = 0, thick = 0, thick_b = 0, scene_color = 0, scene_depth = 0;
     GLuint fbo_a = 0, fbo_b = 0, thick_fbo = 0, thick_fbo_b = 0;
     GLuint smoothed_fbo = 0, smoothed_texture = 0;  // where the last frame's smoothing ended
     GLuint environment = 0;
     GrowingBuffer xs, ys, zs;
     GLuint vao = 0;
+    GrowingBuffer spray_xs, spray_ys, spray_zs;  // one point per particle, not instanced
+    GLuint spray_vao = 0;
     CameraBasis basis;
     float aspect = 1;
     ScreenFluidTimings timings;
@@ -205,8 +236,13 @@ struct ScreenFluidPass::Impl {
         smoothing = build_smoothing(s.smoothing);
         thickness_blur = build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kThicknessBlurFragment},
                                "thickness_blur");
-        composite =
-            build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kCompositeFragment}, "composite");
+        composite = build({kFullScreenVertex},
+                          {kFragmentPrelude, kScreenCamera, kWaterShading, kCompositeFragment}, "composite");
+        spray = build({kVersion, kScreenCamera, kSprayVertex},
+                      {kFragmentPrelude, kScreenCamera, kSprayFragment}, "spray");
+        spray_radius = uniform_location(spray.id, "u_radius", "spray");
+        spray_water = uniform_location(spray.id, "u_water_color", "spray");
+        glProgramUniform1f(spray.id, uniform_location(spray.id, "u_size", "spray"), kSpraySize);
         depth_radius = uniform_location(depth.id, "u_radius", "fluid_depth");
         thickness_radius = uniform_location(thickness.id, "u_radius", "fluid_thickness");
         smooth_u.find(smoothing.id);
@@ -232,17 +268,9 @@ struct ScreenFluidPass::Impl {
         smoothed_fbo = fbo_a, smoothed_texture = depth_a;
 
         xs.create(), ys.create(), zs.create();
-        glGenVertexArrays(1, &vao);
-        glBindVertexArray(vao);
-        const GrowingBuffer* columns[3] = {&xs, &ys, &zs};
-        for (GLuint a = 0; a < 3; ++a) {
-            glBindVertexBuffer(a, columns[a]->id, 0, sizeof(float));
-            glVertexBindingDivisor(a, 1);
-            glEnableVertexAttribArray(a);
-            glVertexAttribFormat(a, 1, GL_FLOAT, GL_FALSE, 0);
-            glVertexAttribBinding(a, a);
-        }
-        glBindVertexArray(0);
+        vao = column_vao({&xs, &ys, &zs}, 1);
+        spray_xs.create(), spray_ys.create(), spray_zs.create();
+        spray_vao = column_vao({&spray_xs, &spray_ys, &spray_zs}, 0);
 
         // Fixed inputs: texture units (0 depth, 1 thickness, 2 scene colour, 3 scene depth, 4 the
         // environment) and the water's look until set_water.
@@ -261,9 +289,11 @@ struct ScreenFluidPass::Impl {
         close_holes_jump = uniform_location(close_holes.id, "u_jump", "close_holes");
         close_holes_gap = uniform_location(close_holes.id, "u_gap", "close_holes");
         unit(thickness_blur, "u_thickness", 0);
+        unit(spray, "u_depth", 0);
         set_water(WaterLook{});
         glProgramUniform1i(composite.id, composite_has_environment, 0);
-        glProgramUniform1f(composite.id, uniform_location(composite.id, "u_refraction", "composite"), 0.25f);
+        glProgramUniform1f(composite.id, uniform_location(composite.id, "u_refraction", "composite"),
+                           shaders::kRefraction);
         glProgramUniform2f(composite.id, uniform_location(composite.id, "u_near_far", "composite"),
                            kCameraNear, kCameraFar);
         glProgramUniform1i(smoothing.id, smooth_u.max_radius, s.max_filter_pixels);
@@ -274,22 +304,24 @@ struct ScreenFluidPass::Impl {
     }
 
     ~Impl() {
-        for (GLuint p :
-             {depth.id, thickness.id, close_holes.id, smoothing.id, thickness_blur.id, composite.id})
+        for (GLuint p : {depth.id, thickness.id, close_holes.id, smoothing.id, thickness_blur.id,
+                         composite.id, spray.id})
             glDeleteProgram(p);
         const GLuint textures[] = {depth_a, depth_b, depth_test, thick, thick_b, scene_color, scene_depth};
         glDeleteTextures(7, textures);
         const GLuint fbos[] = {fbo_a, fbo_b, thick_fbo, thick_fbo_b};
         glDeleteFramebuffers(4, fbos);
-        const GLuint buffers[] = {xs.id, ys.id, zs.id};
-        glDeleteBuffers(3, buffers);
-        glDeleteVertexArrays(1, &vao);
+        const GLuint buffers[] = {xs.id, ys.id, zs.id, spray_xs.id, spray_ys.id, spray_zs.id};
+        glDeleteBuffers(6, buffers);
+        const GLuint vaos[] = {vao, spray_vao};
+        glDeleteVertexArrays(2, vaos);
     }
 
     void set_water(const WaterLook& w) {
         glProgramUniform3f(composite.id, composite_absorption, w.absorption.x, w.absorption.y,
                            w.absorption.z);
         glProgramUniform3f(composite.id, composite_water, w.color.x, w.color.y, w.color.z);
+        glProgramUniform3f(spray.id, spray_water, w.color.x, w.color.y, w.color.z);
     }
 
     void set_environment(GLuint cube_map) {
@@ -302,7 +334,8 @@ struct ScreenFluidPass::Impl {
         const Mat4 vp = view_projection(camera, aspect);
         basis = camera_basis(camera);
         const CameraBasis& b = basis;
-        for (const Program* p : {&depth, &thickness, &close_holes, &smoothing, &thickness_blur, &composite}) {
+        for (const Program* p :
+             {&depth, &thickness, &close_holes, &smoothing, &thickness_blur, &composite, &spray}) {
             const CameraUniforms& u = p->camera;
             glProgramUniform3f(p->id, u.eye, b.eye.x, b.eye.y, b.eye.z);
             glProgramUniform3f(p->id, u.forward, b.forward.x, b.forward.y, b.forward.z);
@@ -444,13 +477,28 @@ struct ScreenFluidPass::Impl {
         full_screen(thickness_blur);
     }
 
-    void render(const ParticleSpritesView& particles, float radius) {
+    void render(const ParticleSpritesView& particles, const ParticleSpritesView& spray_particles,
+                float radius) {
         const std::size_t n = particles.size();
         timings = {};
-        if (n == 0 || radius <= 0) return;
-        if (particles.y.size() != n || particles.z.size() != n)
-            throw std::out_of_range("ScreenFluidPass::render: x, y and z differ in length");
+        if ((n == 0 && spray_particles.size() == 0) || radius <= 0) return;
+        for (const ParticleSpritesView* v : {&particles, &spray_particles})
+            if (v->y.size() != v->size() || v->z.size() != v->size())
+                throw std::out_of_range("ScreenFluidPass::render: x, y and z differ in length");
         mark(nullptr);
+        if (n > 0) {
+            water(particles, radius);
+        } else {  // spray alone: no water hides it
+            glBindFramebuffer(GL_FRAMEBUFFER, fbo_a);
+            glClearColor(0, 0, 0, 0);
+            glClear(GL_COLOR_BUFFER_BIT);
+            smoothed_fbo = fbo_a, smoothed_texture = depth_a;
+        }
+        if (spray_particles.size() > 0) draw_spray(spray_particles, radius);
+    }
+
+    void water(const ParticleSpritesView& particles, float radius) {
+        const std::size_t n = particles.size();
         xs.upload(particles.x.data(), n * sizeof(float));
         ys.upload(particles.y.data(), n * sizeof(float));
         zs.upload(particles.z.data(), n * sizeof(float));
@@ -494,6 +542,35 @@ struct ScreenFluidPass::Impl {
         glEnable(GL_SCISSOR_TEST);  // still the fluid's box
         composite_over_picture();
         glDisable(GL_SCISSOR_TEST);
+    }
+
+    // After the composite, into the picture: blended over the water and the scene, depth-tested against
+    // the scene's depth without writing it, so the drawing order (particle order) is the only order.
+    void draw_spray(const ParticleSpritesView& p, float radius) {
+        const std::size_t n = p.size();
+        spray_xs.upload(p.x.data(), n * sizeof(float));
+        spray_ys.upload(p.y.data(), n * sizeof(float));
+        spray_zs.upload(p.z.data(), n * sizeof(float));
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        viewport(spray, width, height);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, smoothed_texture);
+        glProgramUniform1f(spray.id, spray_radius, radius);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_FALSE);
+        glEnable(GL_BLEND);
+        // The picture's alpha stays opaque.
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+        glEnable(GL_PROGRAM_POINT_SIZE);
+        glUseProgram(spray.id);
+        glBindVertexArray(spray_vao);
+        glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(n));
+        glBindVertexArray(0);
+        glDisable(GL_PROGRAM_POINT_SIZE);
+        glDisable(GL_BLEND);
+        glDepthMask(GL_TRUE);
+        mark(&timings.spray);
     }
 
     // The scene behind: its colour for refraction and its depth for what stands in front of the water.
@@ -549,7 +626,11 @@ void ScreenFluidPass::set_camera(const CameraDesc& camera, Vec3f light_dir) {
     impl_->set_camera(camera, light_dir);
 }
 void ScreenFluidPass::render(const ParticleSpritesView& particles, float radius) {
-    impl_->render(particles, radius);
+    impl_->render(particles, {}, radius);
+}
+void ScreenFluidPass::render(const ParticleSpritesView& fluid, const ParticleSpritesView& spray,
+                             float radius) {
+    impl_->render(fluid, spray, radius);
 }
 void ScreenFluidPass::set_water(const WaterLook& water) {
     impl_->set_water(water);

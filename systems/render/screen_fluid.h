@@ -44,6 +44,13 @@ struct ScreenFluidSettings {
     int fill_holes = 2;  // background pixels with fluid on both sides this near are filled (0: none)
     int thickness_downsample = 2;
     float thickness_blur = 1.5f;  // Gaussian sigma over the thickness, in its reduced pixels (0: none)
+    // Spray (Green, GDC 2010): particles with fewer than this many others within spray_distance are
+    // drawn as small bright sprites instead of water (0: no spray). Two spacings around a particle hold
+    // about 32 others inside water, 22 at a flat surface and 12 in a one-layer sheet, but 4 along a thin
+    // filament: below 6 a particle is a drop or a strand, not part of a surface.
+    static constexpr int kMaxSprayNeighbours = 64;
+    int spray_neighbours = 6;
+    float spray_distance = 4.0f;  // particle radii: two SPH spacings (SPH particles sit 2 radii apart)
     bool time_passes = false;     // finish GL after each pass and time it (benchmarks; slows the frame)
     // "" when valid, else the problem naming the option (--filter-iterations, ...).
     std::string validate() const;
@@ -51,7 +58,7 @@ struct ScreenFluidSettings {
 
 // Milliseconds of each pass of the last render (with ScreenFluidSettings::time_passes; else zeros).
 struct ScreenFluidTimings {
-    double copy_scene = 0, depth = 0, smoothing = 0, thickness = 0, composite = 0;
+    double copy_scene = 0, depth = 0, smoothing = 0, thickness = 0, composite = 0, spray = 0;
 };
 
 // The passes' targets, for tests.
@@ -73,6 +80,9 @@ class ScreenFluidPass {
     // Draws `particles` (spheres of `radius`) as water over the picture in the default framebuffer,
     // whose colour and depth are the scene behind. No particles: the picture is left as it is.
     void render(const ParticleSpritesView& particles, float radius);
+    // The same, then `spray` drawn over the water as small bright sprites of about 0.6 x a particle's
+    // size, hidden by solids in front and by the water's surface.
+    void render(const ParticleSpritesView& fluid, const ParticleSpritesView& spray, float radius);
     // Width x height floats (thickness: its reduced size, thickness_size()), rows bottom to top.
     void read(ScreenFluidBuffer which, std::span<float> out) const;
     const ScreenFluidTimings& timings() const;

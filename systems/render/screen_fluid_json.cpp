@@ -11,6 +11,7 @@ void members(ScreenFluidSettings& s, F&& f) {
     f("max_filter_taps", s.max_filter_taps), f("fill_holes", s.fill_holes);
     f("thickness_downsample", s.thickness_downsample);
     f("thickness_blur", s.thickness_blur);
+    f("spray_neighbours", s.spray_neighbours), f("spray_distance", s.spray_distance);
 }
 
 // The smoothing is a name, kept beside the numeric members.

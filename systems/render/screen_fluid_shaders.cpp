@@ -289,12 +289,8 @@ void main() {
 const char* const kCompositeFragment = R"(
 uniform sampler2D u_depth;       // smoothed eye-space depth, 0 = no fluid
 uniform sampler2D u_thickness;   // reduced resolution
-uniform sampler2D u_scene_color;
 uniform sampler2D u_scene_depth; // window depth of the scene behind
 uniform vec3 u_light_dir;
-uniform vec3 u_absorption;       // per metre of water, per channel
-uniform vec3 u_water_color;
-uniform float u_refraction;
 uniform samplerCube u_environment;
 uniform bool u_has_environment;  // else the analytic sky
 uniform vec2 u_near_far;
@@ -331,18 +327,53 @@ void main() {
     vec3 n = cross(side_difference(p, ivec2(1, 0), d, here), side_difference(p, ivec2(0, 1), d, here));
     n = dot(n, n) > 0.0 ? normalize(n) : v;
     if (dot(n, v) < 0.0) n = -n;
-    float thickness = texture(u_thickness, (vec2(p) + 0.5) / u_viewport).r;
-
-    float ndv = max(dot(n, v), 0.0);
-    float fresnel = 0.02 + 0.98 * pow(1.0 - ndv, 5.0);
+    vec2 uv = (vec2(p) + 0.5) / u_viewport;
+    float thickness = texture(u_thickness, uv).r;
     vec3 r = reflect(-v, n);
     vec3 reflected = u_has_environment ? texture(u_environment, r).rgb : sky_color(r);
-    vec2 offset = vec2(dot(n, u_right), dot(n, u_up)) * u_refraction * min(thickness, 0.2);
-    vec2 uv = clamp((vec2(p) + 0.5) / u_viewport - offset, vec2(0.0), vec2(1.0));
-    vec3 behind = texture(u_scene_color, uv).rgb;
-    vec3 transmitted = mix(u_water_color, behind, exp(-u_absorption * thickness));
-    float spec = pow(max(dot(n, normalize(u_light_dir + v)), 0.0), 96.0);
-    frag_color = vec4(mix(transmitted, reflected, fresnel) + vec3(spec * (0.3 + 0.7 * fresnel)), 1.0);
+    float highlight = pow(max(dot(n, normalize(u_light_dir + v)), 0.0), 96.0);
+    frag_color = vec4(shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight), 1.0);
+}
+)";
+
+// Spray (Green, GDC 2010): a round point sprite a little smaller than the particle's projected size.
+// Sprites that would cover less than a pixel keep their size and fade by the area they would have had,
+// so far spray stays fine and dim instead of turning into single-pixel noise.
+const char* const kSprayVertex = R"(
+layout(location = 0) in float a_x;
+layout(location = 1) in float a_y;
+layout(location = 2) in float a_z;
+uniform float u_radius;
+uniform float u_size;  // sprite diameter in particle diameters
+flat out float v_depth;
+flat out float v_fade;
+void main() {
+    vec3 p = vec3(a_x, a_y, a_z);
+    v_depth = dot(p - u_eye, u_forward);
+    gl_Position = u_view_proj * vec4(p, 1.0);
+    float pixels = v_depth > 0.0 ? u_size * u_radius * u_viewport.y / (u_half_extent.y * v_depth) : 0.0;
+    gl_PointSize = max(pixels, 1.0);
+    v_fade = min(pixels * pixels, 1.0);
+}
+)";
+
+// Bright water-tinted white with a soft round edge; hidden where the water's surface is in front (the
+// solids in front are the depth test's).
+const char* const kSprayFragment = R"(
+uniform sampler2D u_depth;  // the water's smoothed eye-space depth, 0 = no water
+uniform vec3 u_water_color;
+uniform float u_radius;
+flat in float v_depth;
+flat in float v_fade;
+out vec4 frag_color;
+void main() {
+    vec2 q = gl_PointCoord * 2.0 - 1.0;
+    float r2 = dot(q, q);
+    if (r2 > 1.0) discard;
+    float water = texelFetch(u_depth, ivec2(gl_FragCoord.xy), 0).r;
+    if (water > 0.0 && v_depth > water + u_radius) discard;
+    float alpha = (1.0 - r2) * (1.0 - r2) * v_fade;
+    frag_color = vec4(mix(vec3(1.0), u_water_color, 0.12), alpha);
 }
 )";
 

@@ -25,5 +25,8 @@ extern const char* const kNarrowRangeFragment;
 extern const char* const kCurvatureFlowFragment;
 extern const char* const kThicknessBlurFragment;
 extern const char* const kCompositeFragment;
+// Spray: one point sprite per particle (attributes 0-2 read x, y, z per vertex), drawn after the composite.
+extern const char* const kSprayVertex;
+extern const char* const kSprayFragment;
 
 }  // namespace rivulet::shaders

@@ -40,10 +40,12 @@ void main() {
 const char* const kLitFragment = R"(
 uniform vec3 u_eye;
 uniform vec3 u_light_dir;
-uniform vec3 u_water_color;
-// The water's Beer-Lambert coefficients, set for the mesh methods' thickness composite (not built yet):
-// until then the linker drops it.
-uniform vec3 u_absorption;
+uniform vec3 u_right;     // water: the camera's axes, to turn the normal into a screen offset
+uniform vec3 u_up;
+uniform vec2 u_viewport;  // water: the picture's pixels
+uniform sampler2D u_thickness;  // water: the fluid's thickness per pixel (reduced resolution)
+// Water: > 0 for a surface with no back (the pool's height field): the depth of water under it.
+uniform float u_slab_depth;
 uniform vec3 u_horizon;  // ground: the environment's mean horizon colour
 uniform vec3 u_albedo;   // solids
 uniform float u_shine;  // solids: strength of a broad highlight
@@ -106,15 +108,14 @@ void main() {
     float direct = ndl * light_reaching(n, ndl);
 #endif
 #if LIT_VARIANT == 0
-    // Water. Schlick with water's F0; capped below 1 so silhouettes keep some body colour instead of
-    // turning into the pale sky.
-    float fresnel = 0.02 + 0.98 * pow(1.0 - max(dot(n, v), 0.0), 5.0);
-    // Drawn opaque (the mesh methods have no thickness to absorb over yet): 1.5 times the deep-water
-    // colour is about the body of the few centimetres of water a stream or a splash shows.
-    vec3 body = 1.5 * u_water_color * (0.35 + 0.65 * direct);
+    // Water: the composite the screen-space method uses, with the thickness of the closed surface
+    // (kMeshThicknessFragment) or, for the pool, of the slab under it along the view ray.
+    vec2 uv = gl_FragCoord.xy / u_viewport;
+    float thickness = u_slab_depth > 0.0 ? u_slab_depth / max(v.y, 0.15)
+                                         : max(texture(u_thickness, uv).r, 0.0);
     vec3 reflected = textureLod(u_environment, reflect(-v, n), u_reflection_lod).rgb;
-    float spec = step(1e-4, direct) * specular(n, v, 96.0);
-    vec3 color = mix(body, reflected, 0.6 * fresnel) + vec3(spec * (0.3 + 0.7 * fresnel));
+    float highlight = step(1e-4, direct) * specular(n, v, 96.0);
+    vec3 color = shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight);
 #elif LIT_VARIANT == 2 || LIT_VARIANT == 4
     // Ground: a checker, faded into the environment's horizon so the plane's far edge and the checker's
     // aliasing disappear.
@@ -128,6 +129,76 @@ void main() {
 #endif
     frag_color = vec4(color, 1.0);
 #endif
+}
+)";
+
+// One water for every surface method (seed 004 §3.1.4): a Schlick Fresnel mix of the reflected
+// environment and the transmitted scene behind, which is offset along the normal by the thickness
+// (refraction) and tinted towards the water's colour by Beer-Lambert absorption over it, plus the key
+// light's highlight. The screen-space composite and the lit meshes' water both call shade_water, so
+// three methods of one frame differ only in their surface.
+const char* const kWaterShading = R"(
+uniform vec3 u_water_color;   // what thick water tends to
+uniform vec3 u_absorption;    // Beer-Lambert coefficients per metre, per channel
+uniform float u_refraction;   // screen offset per unit of thickness and of the normal's screen part
+uniform sampler2D u_scene_color;
+const float kWaterF0 = 0.02;  // reflectance of water at normal incidence ((1.33 - 1) / (1.33 + 1))^2
+float water_fresnel(float cos_theta) {
+    return kWaterF0 + (1.0 - kWaterF0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0);
+}
+// n, v: the unit normal and the unit direction to the eye; reflected: the environment along the mirror
+// direction; uv: this pixel in the scene colour; n_screen: the normal along the camera's right and up;
+// highlight: the key light's specular term where the light reaches.
+vec3 shade_water(vec3 n, vec3 v, vec3 reflected, float thickness, vec2 uv, vec2 n_screen, float highlight) {
+    float fresnel = water_fresnel(dot(n, v));
+    vec2 offset = n_screen * u_refraction * min(thickness, 0.2);
+    vec3 behind = texture(u_scene_color, clamp(uv - offset, vec2(0.0), vec2(1.0))).rgb;
+    vec3 transmitted = mix(u_water_color, behind, exp(-u_absorption * thickness));
+    return mix(transmitted, reflected, fresnel) + vec3(highlight * (0.3 + 0.7 * fresnel));
+}
+)";
+
+// Drawn with kLitVertex into two float targets with no depth test. Target 0 is blended additively: each
+// fragment adds its distance from the eye where the ray leaves the water and subtracts it where it enters, so
+// a closed surface sums to the length of water along the pixel's ray, however many times the ray crosses it.
+// Which way a face points comes from its own plane (screen derivatives), turned outwards by the interpolated
+// normal, so the meshes' winding does not matter. Target 1 is blended by GL_MAX into the farthest depth and
+// the negated nearest: where a surface folds over itself or overlapping closed surfaces count their common
+// water twice, the sum falls outside [0, far - near], and the resolve (kThicknessResolveFragment) falls back
+// to that span.
+const char* const kMeshThicknessFragment = R"(#version 450 core
+uniform vec3 u_eye;
+in vec3 v_world;
+in vec3 v_normal;
+layout(location = 0) out float signed_sum;
+layout(location = 1) out vec2 span;
+void main() {
+    vec3 face = cross(dFdx(v_world), dFdy(v_world));
+    float outward = dot(face, v_normal) >= 0.0 ? 1.0 : -1.0;
+    bool entering = dot(face, u_eye - v_world) * outward > 0.0;
+    float depth = length(v_world - u_eye);  // along the ray, so the sum is the path through the water
+    signed_sum = entering ? -depth : depth;
+    span = vec2(depth, -depth);
+}
+)";
+
+const char* const kThicknessResolveVertex = R"(#version 450 core
+void main() {
+    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+    gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+
+const char* const kThicknessResolveFragment = R"(#version 450 core
+uniform sampler2D u_signed_sum;
+uniform sampler2D u_span;  // cleared to (0, -huge): x 0 where no fluid was drawn
+out float thickness;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    float sum = texelFetch(u_signed_sum, p, 0).r;
+    vec2 span = texelFetch(u_span, p, 0).rg;
+    float range = max(span.x + span.y, 0.0);
+    thickness = span.x <= 0.0 ? 0.0 : (sum > 0.0 ? min(sum, range) : range);
 }
 )";
 

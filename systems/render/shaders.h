@@ -11,14 +11,27 @@ extern const char* const kFragmentPrelude;
 // Lit geometry. Attributes: 0 position, 1 normal, 2 per-instance offset (constant when not instancing:
 // zero, or the tank's displacement). Uniforms: u_view_proj, u_scale, u_clip (x0, z0, x1, z1: the box
 // gl_ClipDistance 0-3 keep, when enabled), u_eye, u_light_dir, u_environment (cube map, unit
-// kEnvironmentUnit), and per variant u_water_color and u_absorption (water), u_albedo and u_shine
-// (solids), u_horizon (ground), u_reflection_lod (water, glass), u_shadow_map (depth comparison, unit
-// kShadowUnit), u_shadow_matrix and u_shadow_texel (all but glass and the far ground). The fragment shader
-// is compiled once per kLit* variant below, with "#define LIT_VARIANT n" after the prelude: llvmpipe runs
-// both sides of every branch for every pixel, so one program per material keeps the lookups a material
-// does not need off its pixels. Glass comes out with alpha for blending; everything else is opaque.
+// kEnvironmentUnit), and per variant: water, kWaterShading's uniforms, u_right and u_up (the camera's
+// axes), u_viewport, u_thickness (unit kThicknessUnit) and u_slab_depth (> 0: the pool, absorbed over
+// that depth); u_albedo and u_shine (solids), u_horizon (ground), u_reflection_lod (water, glass),
+// u_shadow_map (depth comparison, unit kShadowUnit), u_shadow_matrix and u_shadow_texel (all but glass
+// and the far ground). The water variant needs kWaterShading between the prelude and kLitFragment. The
+// fragment shader is compiled once per kLit* variant below, with "#define LIT_VARIANT n" after the prelude:
+// llvmpipe runs both sides of every branch for every pixel, so one program per material keeps the lookups a
+// material does not need off its pixels. Glass comes out with alpha for blending; everything else is opaque.
 extern const char* const kLitVertex;
 extern const char* const kLitFragment;
+
+// shade_water() and its uniforms (u_water_color, u_absorption, u_refraction, u_scene_color) and
+// water_fresnel(cos theta): the water every method shows, placed between the prelude and a fragment
+// shader's main.
+extern const char* const kWaterShading;
+// The fluid surfaces' thickness (kLitVertex's outputs; uniform u_eye) into a signed sum
+// and a depth span, then resolved into one thickness per pixel by a full-screen triangle (u_signed_sum,
+// u_span): see shaders.cpp.
+extern const char* const kMeshThicknessFragment;
+extern const char* const kThicknessResolveVertex;
+extern const char* const kThicknessResolveFragment;
 
 // Full-screen sky from gl_VertexID (3 vertices, no attributes), sampling u_environment. Uniforms:
 // u_forward, u_right, u_up, u_half_extent (tan of the half field of view, x and y).
@@ -35,6 +48,10 @@ extern const char* const kShadowPointVertex;
 extern const char* const kShadowFragment;
 extern const char* const kShadowPointFragment;
 
+// shade_water's u_refraction: how far the scene behind the water shifts, in texture coordinates, per
+// unit of the normal's screen part and of thickness (capped at 0.2), for every method alike.
+inline constexpr float kRefraction = 0.25f;
+
 inline constexpr int kLitWater = 0;
 inline constexpr int kLitSolid = 1;  // colliders, the pool rim, the SPH tank's frame
 inline constexpr int kLitGround = 2;
@@ -46,5 +63,8 @@ inline constexpr int kLitVariants = 5;
 // and reads the same environment on 4.
 inline constexpr int kEnvironmentUnit = 4;
 inline constexpr int kShadowUnit = 5;
+// The lit water's refraction source (the picture before the water) and the fluid's thickness.
+inline constexpr int kSceneColorUnit = 6;
+inline constexpr int kThicknessUnit = 7;
 
 }  // namespace rivulet::shaders

@@ -68,4 +68,24 @@ void write_text(const std::string& path, const std::string& text) {
     std::ofstream(path) << text;
 }
 
+BoxMesh box_mesh(const float (&lo)[3], const float (&hi)[3]) {
+    BoxMesh m;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        for (int side = 0; side < 2; ++side) {
+            const auto first = static_cast<std::uint32_t>(m.vertices.size() / 6);
+            for (int corner = 0; corner < 4; ++corner) {
+                float p[3], n[3] = {0, 0, 0};
+                p[axis] = side ? hi[axis] : lo[axis];
+                p[u] = (corner == 1 || corner == 2) ? hi[u] : lo[u];
+                p[v] = corner >= 2 ? hi[v] : lo[v];
+                n[axis] = side ? 1.0f : -1.0f;
+                m.vertices.insert(m.vertices.end(), {p[0], p[1], p[2], n[0], n[1], n[2]});
+            }
+            for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(first + i);
+        }
+    }
+    return m;
+}
+
 }  // namespace rivulet::test

@@ -4,8 +4,17 @@
 #include <nlohmann/json.hpp>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace rivulet::test {
+
+// A closed axis-aligned box as a renderer mesh: 6 floats per vertex (position, outward normal), four
+// vertices and two triangles per face.
+struct BoxMesh {
+    std::vector<float> vertices;
+    std::vector<std::uint32_t> indices;
+};
+BoxMesh box_mesh(const float (&lo)[3], const float (&hi)[3]);
 
 // Number of undirected edges not shared by exactly two triangles, after welding vertices closer than
 // `weld` (0 = compare indices only).
