@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/lib/allocator_tuning.h"
 #include "runtime/lib/frame_pipeline.h"
 #include "runtime/lib/thread_control.h"
 #include "systems/scenes/scene.h"
@@ -100,6 +101,7 @@ int main(int argc, char** argv) {
     app.add_option("--filters", filters);
     app.add_option("--warmup", warmup, "Warm-up frames (default: the scene's)")->check(CLI::Range(0, 100000));
     CLI11_PARSE(app, argc, argv);
+    keep_freed_memory_for_reuse();  // as rivulet does: llvmpipe's per-frame buffers stay in the heap
     int width = 0, height = 0;
     if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2) {
         fmt::print(stderr, "bench_screen_passes: --size wants WxH, got {}\n", size);

@@ -34,12 +34,13 @@ LitPrograms build_lit_programs() {
     // quietly wrong picture.
     static const std::vector<const char*> kReads[shaders::kLitVariants] = {
         {"u_water_color", "u_absorption", "u_refraction", "u_scene_color", "u_thickness", "u_viewport",
-         "u_slab_depth", "u_right", "u_up", "u_reflection_lod", "u_environment", "u_shadow_map",
-         "u_shadow_matrix", "u_shadow_texel"},
+         "u_right", "u_up", "u_reflection_lod", "u_environment"},
         {"u_albedo", "u_shine", "u_shadow_map", "u_shadow_matrix", "u_shadow_texel"},
         {"u_horizon", "u_shadow_map", "u_shadow_matrix", "u_shadow_texel"},
         {"u_reflection_lod", "u_environment"},
         {"u_horizon"},
+        {"u_water_color", "u_absorption", "u_refraction", "u_scene_color", "u_slab_depth", "u_viewport",
+         "u_right", "u_up", "u_reflection_lod", "u_environment"},
     };
     LitPrograms programs;
     for (int v = 0; v < shaders::kLitVariants; ++v) {

@@ -253,9 +253,11 @@ struct Renderer::Impl {
 
     void set_water(const WaterLook& w) {
         water = w;
-        const LitProgram& p = lit[shaders::kLitWater];
-        glProgramUniform3f(p.id, p.water_color, w.color.x, w.color.y, w.color.z);
-        glProgramUniform3f(p.id, p.absorption, w.absorption.x, w.absorption.y, w.absorption.z);
+        for (int variant : {shaders::kLitWater, shaders::kLitPool}) {
+            const LitProgram& p = lit[std::size_t(variant)];
+            glProgramUniform3f(p.id, p.water_color, w.color.x, w.color.y, w.color.z);
+            glProgramUniform3f(p.id, p.absorption, w.absorption.x, w.absorption.y, w.absorption.z);
+        }
         if (screen) screen->set_water(w);
     }
 
@@ -568,13 +570,13 @@ struct Renderer::Impl {
         }
         mark(&timings.water_thickness);
         backdrop.bind();
-        const LitProgram& water_program = use_lit(shaders::kLitWater);
         if (up.pool) {
-            glProgramUniform1f(water_program.id, water_program.slab_depth, pool_depth);
+            const LitProgram& pool = use_lit(shaders::kLitPool);
+            glProgramUniform1f(pool.id, pool.slab_depth, pool_depth);
             glBindVertexArray(pool_vao);
             glDrawElements(GL_TRIANGLES, pool_index_count, GL_UNSIGNED_INT, nullptr);
-            glProgramUniform1f(water_program.id, water_program.slab_depth, 0.0f);
         }
+        const LitProgram& water_program = use_lit(shaders::kLitWater);
         draw_fluid(water_program.id, water_program.scale, water_program.clip, true);
         mark(&timings.water);
     }

@@ -44,7 +44,7 @@ uniform vec3 u_right;     // water: the camera's axes, to turn the normal into a
 uniform vec3 u_up;
 uniform vec2 u_viewport;  // water: the picture's pixels
 uniform sampler2D u_thickness;  // water: the fluid's thickness per pixel (reduced resolution)
-// Water: > 0 for a surface with no back (the pool's height field): the depth of water under it.
+// The pool: a height field has no back, so it absorbs over the depth of water under it.
 uniform float u_slab_depth;
 uniform vec3 u_horizon;  // ground: the environment's mean horizon colour
 uniform vec3 u_albedo;   // solids
@@ -104,15 +104,22 @@ void main() {
     float ndl = max(dot(n, u_light_dir), 0.0);
 #if LIT_VARIANT == 4
     float direct = ndl;  // beyond the shadow map's reach
+#elif LIT_VARIANT == 0 || LIT_VARIANT == 5
+    // Water takes no shadow lookups: its body colour is the light through it, which the screen-space
+    // composite cannot shadow either, and two taps cost llvmpipe as much as the rest of its shading.
+    float direct = ndl;
 #else
     float direct = ndl * light_reaching(n, ndl);
 #endif
-#if LIT_VARIANT == 0
+#if LIT_VARIANT == 0 || LIT_VARIANT == 5
     // Water: the composite the screen-space method uses, with the thickness of the closed surface
     // (kMeshThicknessFragment) or, for the pool, of the slab under it along the view ray.
     vec2 uv = gl_FragCoord.xy / u_viewport;
-    float thickness = u_slab_depth > 0.0 ? u_slab_depth / max(v.y, 0.15)
-                                         : max(texture(u_thickness, uv).r, 0.0);
+#if LIT_VARIANT == 5
+    float thickness = u_slab_depth / max(v.y, 0.15);
+#else
+    float thickness = max(texture(u_thickness, uv).r, 0.0);
+#endif
     vec3 reflected = textureLod(u_environment, reflect(-v, n), u_reflection_lod).rgb;
     float highlight = step(1e-4, direct) * specular(n, v, 96.0);
     vec3 color = shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight);

@@ -12,10 +12,10 @@ extern const char* const kFragmentPrelude;
 // zero, or the tank's displacement). Uniforms: u_view_proj, u_scale, u_clip (x0, z0, x1, z1: the box
 // gl_ClipDistance 0-3 keep, when enabled), u_eye, u_light_dir, u_environment (cube map, unit
 // kEnvironmentUnit), and per variant: water, kWaterShading's uniforms, u_right and u_up (the camera's
-// axes), u_viewport, u_thickness (unit kThicknessUnit) and u_slab_depth (> 0: the pool, absorbed over
-// that depth); u_albedo and u_shine (solids), u_horizon (ground), u_reflection_lod (water, glass),
-// u_shadow_map (depth comparison, unit kShadowUnit), u_shadow_matrix and u_shadow_texel (all but glass
-// and the far ground). The water variant needs kWaterShading between the prelude and kLitFragment. The
+// axes), u_viewport, u_thickness (unit kThicknessUnit; the pool variant reads u_slab_depth instead, the
+// depth it absorbs over); u_albedo and u_shine (solids), u_horizon (ground), u_reflection_lod (water, glass),
+// u_shadow_map (depth comparison, unit kShadowUnit), u_shadow_matrix and u_shadow_texel (solids and the
+// near ground). The water variants need kWaterShading between the prelude and kLitFragment. The
 // fragment shader is compiled once per kLit* variant below, with "#define LIT_VARIANT n" after the prelude:
 // llvmpipe runs both sides of every branch for every pixel, so one program per material keeps the lookups a
 // material does not need off its pixels. Glass comes out with alpha for blending; everything else is opaque.
@@ -57,7 +57,8 @@ inline constexpr int kLitSolid = 1;  // colliders, the pool rim, the SPH tank's 
 inline constexpr int kLitGround = 2;
 inline constexpr int kLitGlass = 3;      // the SPH tank's walls
 inline constexpr int kLitGroundFar = 4;  // the ground beyond the shadow map's reach: no lookups
-inline constexpr int kLitVariants = 5;
+inline constexpr int kLitPool = 5;       // water over the pool's depth, not a measured thickness
+inline constexpr int kLitVariants = 6;
 
 // Texture units the renderer's programs read; the screen-space fluid pass uses 0-3 for its own targets
 // and reads the same environment on 4.
