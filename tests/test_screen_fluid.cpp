@@ -152,6 +152,27 @@ TEST(ScreenFluid, ThicknessOfAColumnGrowsLinearlyWithItsLayers) {
     }
 }
 
+TEST(ScreenFluid, OverlappingSpheresCountTheirCommonWaterOnce) {
+    // Four spheres a quarter radius apart along the axis: the chords sum to about four diameters, the
+    // water along the ray is one diameter and three quarter radii.
+    const float radius = 0.05f;
+    const CameraDesc cam = facing_scene().camera;
+    ScreenFluidSettings unblurred;
+    unblurred.thickness_blur = 0;
+    auto r = make_renderer(unblurred);
+    Particles p;
+    for (int i = 0; i < 4; ++i) p.add({0, 0.5f, -0.25f * radius * float(i)});
+    draw(*r, p, radius);
+    const std::vector<float> t = read(*r, ScreenFluidBuffer::kThickness);
+    const int tw = r->screen_fluid().thickness_width(), th = r->screen_fluid().thickness_height();
+    const Hit front = analytic_hit(cam, tw / 2, th / 2, {0, 0.5f, 0}, radius, tw, th);
+    const Hit back = analytic_hit(cam, tw / 2, th / 2, {0, 0.5f, -0.75f * radius}, radius, tw, th);
+    const float centre = t[std::size_t(th / 2) * tw + tw / 2];
+    // The span: from the front sphere's entry to the back sphere's exit, along the ray.
+    EXPECT_NEAR(centre, back.chord + 0.75f * radius, 2e-3f);
+    EXPECT_LT(centre, 0.5f * 4.0f * front.chord);
+}
+
 // A sheet facing the camera at z = z0, particles jittered by up to r / 2 in depth.
 Particles jittered_sheet(float radius, float z0 = 0) {
     Particles p;

@@ -198,15 +198,16 @@ GLuint column_vao(std::initializer_list<const GrowingBuffer*> columns, GLuint di
 struct ScreenFluidPass::Impl {
     ScreenFluidSettings settings;
     int width, height, thick_w, thick_h;
-    Program depth, thickness, close_holes, smoothing, thickness_blur, composite, spray;
+    Program depth, thickness, thickness_resolve, close_holes, smoothing, thickness_blur, composite, spray;
     SmoothingUniforms smooth_u;
     GLint depth_radius = -1, thickness_radius = -1;
     GLint blur_step = -1, blur_sigma = -1, close_holes_jump = -1, close_holes_gap = -1;
     GLint composite_light = -1, composite_absorption = -1, composite_water = -1,
           composite_has_environment = -1;
     GLint spray_radius = -1, spray_water = -1;
-    GLuint depth_a = 0, depth_b = 0, depth_test = 0, thick = 0, thick_b = 0, scene_color = 0, scene_depth = 0;
-    GLuint fbo_a = 0, fbo_b = 0, thick_fbo = 0, thick_fbo_b = 0;
+    GLuint depth_a = 0, depth_b = 0, depth_test = 0, thick = 0, thick_b = 0, thick_span = 0, scene_color = 0,
+           scene_depth = 0;
+    GLuint fbo_a = 0, fbo_b = 0, thick_fbo = 0, thick_fbo_b = 0, thick_accumulate_fbo = 0;
     GLuint smoothed_fbo = 0, smoothed_texture = 0;  // where the last frame's smoothing ended
     GLuint environment = 0;
     GrowingBuffer xs, ys, zs;
@@ -231,6 +232,8 @@ struct ScreenFluidPass::Impl {
         thickness =
             build({kVersion, kScreenCamera, kSphereQuadVertex},
                   {kFragmentPrelude, kScreenCamera, kSphereHit, kSphereThicknessFragment}, "fluid_thickness");
+        thickness_resolve =
+            build({kThicknessResolveVertex}, {kThicknessResolveFragment}, "thickness_resolve");
         close_holes =
             build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kCloseHolesFragment}, "close_holes");
         smoothing = build_smoothing(s.smoothing);
@@ -258,6 +261,7 @@ struct ScreenFluidPass::Impl {
         depth_test = texture_2d(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
         thick = texture_2d(GL_R32F, thick_w, thick_h, GL_LINEAR);
         thick_b = texture_2d(GL_R32F, thick_w, thick_h, GL_NEAREST);
+        thick_span = texture_2d(GL_RG32F, thick_w, thick_h, GL_NEAREST);
         scene_color = texture_2d(GL_RGBA8, w, h, GL_LINEAR);
         scene_depth = texture_2d(GL_DEPTH_COMPONENT24, w, h, GL_NEAREST);
         // The smoothing targets share the depth pass's depth buffer: it tells which pixels hold fluid.
@@ -265,6 +269,14 @@ struct ScreenFluidPass::Impl {
         fbo_b = framebuffer(depth_b, depth_test);
         thick_fbo = framebuffer(thick, 0);
         thick_fbo_b = framebuffer(thick_b, 0);
+        thick_accumulate_fbo = framebuffer(thick_b, 0);
+        glBindFramebuffer(GL_FRAMEBUFFER, thick_accumulate_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, thick_span, 0);
+        const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glDrawBuffers(2, both);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw std::runtime_error("ScreenFluidPass: the thickness target is incomplete");
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
         smoothed_fbo = fbo_a, smoothed_texture = depth_a;
 
         xs.create(), ys.create(), zs.create();
@@ -289,6 +301,8 @@ struct ScreenFluidPass::Impl {
         close_holes_jump = uniform_location(close_holes.id, "u_jump", "close_holes");
         close_holes_gap = uniform_location(close_holes.id, "u_gap", "close_holes");
         unit(thickness_blur, "u_thickness", 0);
+        unit(thickness_resolve, "u_signed_sum", 0);
+        unit(thickness_resolve, "u_span", 1);
         unit(spray, "u_depth", 0);
         set_water(WaterLook{});
         glProgramUniform1i(composite.id, composite_has_environment, 0);
@@ -304,13 +318,14 @@ struct ScreenFluidPass::Impl {
     }
 
     ~Impl() {
-        for (GLuint p : {depth.id, thickness.id, close_holes.id, smoothing.id, thickness_blur.id,
-                         composite.id, spray.id})
+        for (GLuint p : {depth.id, thickness.id, thickness_resolve.id, close_holes.id, smoothing.id,
+                         thickness_blur.id, composite.id, spray.id})
             glDeleteProgram(p);
-        const GLuint textures[] = {depth_a, depth_b, depth_test, thick, thick_b, scene_color, scene_depth};
-        glDeleteTextures(7, textures);
-        const GLuint fbos[] = {fbo_a, fbo_b, thick_fbo, thick_fbo_b};
-        glDeleteFramebuffers(4, fbos);
+        const GLuint textures[] = {depth_a, depth_b,    depth_test,  thick,
+                                   thick_b, thick_span, scene_color, scene_depth};
+        glDeleteTextures(8, textures);
+        const GLuint fbos[] = {fbo_a, fbo_b, thick_fbo, thick_fbo_b, thick_accumulate_fbo};
+        glDeleteFramebuffers(5, fbos);
         const GLuint buffers[] = {xs.id, ys.id, zs.id, spray_xs.id, spray_ys.id, spray_zs.id};
         glDeleteBuffers(6, buffers);
         const GLuint vaos[] = {vao, spray_vao};
@@ -527,15 +542,28 @@ struct ScreenFluidPass::Impl {
         glDisable(GL_SCISSOR_TEST);
         mark(&timings.smoothing);
 
-        // Thickness: every sphere's chord, summed, then blurred.
-        glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo);
+        // Thickness: every sphere's chord, summed, at most the span from the nearest sphere to the farthest
+        // (kSphereThicknessFragment), then blurred.
+        glBindFramebuffer(GL_FRAMEBUFFER, thick_accumulate_fbo);
         viewport(thickness, thick_w, thick_h);
-        glClear(GL_COLOR_BUFFER_BIT);
+        const float zero[4] = {0, 0, 0, 0}, span_clear[4] = {0, -3.0e38f, 0, 0};
+        glClearBufferfv(GL_COLOR, 0, zero);
+        glClearBufferfv(GL_COLOR, 1, span_clear);
         glEnable(GL_BLEND);
         glBlendFunc(GL_ONE, GL_ONE);
+        glBlendEquationi(0, GL_FUNC_ADD);
+        glBlendEquationi(1, GL_MAX);
         glProgramUniform1f(thickness.id, thickness_radius, radius);
         draw_spheres(thickness, n);
+        glBlendEquation(GL_FUNC_ADD);
         glDisable(GL_BLEND);
+        glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, thick_b);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, thick_span);
+        full_screen(thickness_resolve);
+        glActiveTexture(GL_TEXTURE0);
         blur_thickness();
         mark(&timings.thickness);
 

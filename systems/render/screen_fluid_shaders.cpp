@@ -76,13 +76,20 @@ void main() {
 }
 )";
 
-// Thickness pass: every sphere's chord along the ray, summed by additive blending.
+// Thickness pass: every sphere's chord along the ray, summed by additive blending (target 0), and the
+// span from the nearest sphere's entry to the farthest one's exit by GL_MAX (target 1). Overlapping
+// spheres (a fountain's stream is denser than its radius) sum their common water many times over; the
+// resolve (shaders.h kThicknessResolveFragment, as for the meshes) keeps the sum within the span, so the
+// three methods absorb alike.
 const char* const kSphereThicknessFragment = R"(
-out float frag_thickness;
+layout(location = 0) out float frag_thickness;
+layout(location = 1) out vec2 frag_span;
 void main() {
     float depth, chord;
     if (!sphere_hit(depth, chord)) discard;
     frag_thickness = chord;
+    float near = depth * length(pixel_ray(gl_FragCoord.xy));  // along the ray, as the chord
+    frag_span = vec2(near + chord, -near);
 }
 )";
 
