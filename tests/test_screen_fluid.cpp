@@ -22,13 +22,7 @@ namespace {
 
 constexpr int kW = 256, kH = 192;
 
-SceneDesc facing_scene() {
-    SceneDesc s;
-    s.camera.eye = {0, 0.5f, 3};
-    s.camera.target = {0, 0.5f, 0};
-    s.camera.fov_y_deg = 40;
-    return s;
-}
+using test::facing_scene;
 
 struct Particles {
     std::vector<float> x, y, z;

@@ -212,6 +212,45 @@ TEST(MeshWater, OverlappingClosedSurfacesCountTheirWaterOnce) {
     EXPECT_NEAR(t.at_world({0, 0, 0.5f}), 1.0f, 0.02f);
 }
 
+TEST(MeshWater, AnIsolatedSphereIsAsThickAsItsChord) {
+    // Scan conversion's isolated spheres are measured as round points, not as their low-res meshes.
+    Renderer r(RenderSettings{kW, kH});
+    const SceneDesc scene = axis_scene();
+    r.set_scene(scene);
+    const float centre[3] = {0, 0, 0}, radius = 0.3f;
+    FrameView frame;
+    frame.sphere_centers = centre;
+    frame.sphere_radius = radius;
+    r.render(frame);
+    const WaterBackdrop& w = r.water_backdrop();
+    const int tw = w.thickness_width(), th = w.thickness_height();
+    std::vector<float> t(std::size_t(tw) * std::size_t(th));
+    w.read_thickness(t);
+    // Every texel against the chord of the ray through its centre.
+    const CameraBasis b = camera_basis(scene.camera);
+    const float aspect = float(kW) / float(kH);
+    int inside = 0;
+    for (int y = 0; y < th; ++y)
+        for (int x = 0; x < tw; ++x) {
+            const float nx = (float(x) + 0.5f) / float(tw) * 2 - 1,
+                        ny = (float(y) + 0.5f) / float(th) * 2 - 1;
+            const Vec3f dir = normalize(b.forward + b.right * (nx * b.tan_half_fov_y * aspect) +
+                                        b.up * (ny * b.tan_half_fov_y));
+            const float bb = dot(b.eye, dir), c = dot(b.eye, b.eye) - radius * radius;
+            const float disc = bb * bb - c;
+            const float want = disc > 0 ? 2 * std::sqrt(disc) : 0.0f;
+            const float got = t[std::size_t(y) * std::size_t(tw) + std::size_t(x)];
+            // At the outline the point's coverage and the analytic test may disagree by a texel.
+            if (want > 0.2f * radius) {
+                ++inside;
+                ASSERT_NEAR(got, want, 1e-3f) << x << ", " << y;
+            } else if (disc < -0.01f * radius * radius) {
+                ASSERT_EQ(got, 0.0f) << x << ", " << y;
+            }
+        }
+    EXPECT_GT(inside, 100);
+}
+
 // --- one frame, three methods ---
 
 // Opaque magenta water: every pixel the surface covers is told apart from the scene, whichever method

@@ -99,6 +99,23 @@ ThicknessProgram build_thickness_program() {
     return p;
 }
 
+ThicknessPointProgram build_thickness_point_program() {
+    ThicknessPointProgram p;
+    const char* name = "thickness_points";
+    p.id = build({shaders::kSphereThicknessPointVertex}, {shaders::kSphereThicknessPointFragment}, name);
+    p.view_proj = uniform_location(p.id, "u_view_proj", name);
+    p.eye = uniform_location(p.id, "u_eye", name);
+    p.radius = uniform_location(p.id, "u_radius", name);
+    p.pixels_per_unit = uniform_location(p.id, "u_pixels_per_unit", name);
+    p.max_point_size = uniform_location(p.id, "u_max_point_size", name);
+    p.forward = uniform_location(p.id, "u_forward", name);
+    p.right = uniform_location(p.id, "u_right", name);
+    p.up = uniform_location(p.id, "u_up", name);
+    p.half_extent = uniform_location(p.id, "u_half_extent", name);
+    p.viewport = uniform_location(p.id, "u_viewport", name);
+    return p;
+}
+
 ShadowProgram build_shadow_program() {
     ShadowProgram p;
     p.id = build({shaders::kShadowVertex}, {shaders::kShadowFragment}, "shadow");

@@ -29,6 +29,12 @@ struct ThicknessProgram {
     GLint view_proj = -1, scale = -1, clip = -1, eye = -1;
 };
 
+struct ThicknessPointProgram {
+    GLuint id = 0;
+    GLint view_proj = -1, eye = -1, radius = -1, pixels_per_unit = -1, max_point_size = -1, forward = -1,
+          right = -1, up = -1, half_extent = -1, viewport = -1;
+};
+
 // Depth only, from the key light: triangles (u_scale and the offset attribute as the lit program) and
 // round points for the screen-space fluid's particles.
 struct ShadowProgram {
@@ -46,6 +52,7 @@ struct ShadowPointProgram {
 LitPrograms build_lit_programs();
 SkyProgram build_sky_program();
 ThicknessProgram build_thickness_program();
+ThicknessPointProgram build_thickness_point_program();
 ShadowProgram build_shadow_program();
 ShadowPointProgram build_shadow_point_program();
 

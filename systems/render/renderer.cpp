@@ -56,6 +56,7 @@ struct Renderer::Impl {
     ShadowProgram shadow;
     ShadowPointProgram shadow_points;
     ThicknessProgram thickness;
+    ThicknessPointProgram thickness_points;
     ShadowMap shadow_map;
     WaterBackdrop backdrop;
     ShadowFit shadow_fit;
@@ -123,6 +124,7 @@ struct Renderer::Impl {
           shadow(build_shadow_program()),
           shadow_points(build_shadow_point_program()),
           thickness(build_thickness_program()),
+          thickness_points(build_thickness_point_program()),
           shadow_map(kShadowMapSize),
           backdrop(width, height) {
         for (const LitProgram& p : lit) {
@@ -150,6 +152,9 @@ struct Renderer::Impl {
         float point_sizes[2] = {1, 1};
         glGetFloatv(GL_POINT_SIZE_RANGE, point_sizes);
         max_point_size = point_sizes[1];
+        glProgramUniform1f(thickness_points.id, thickness_points.max_point_size, max_point_size);
+        glProgramUniform2f(thickness_points.id, thickness_points.viewport, float(backdrop.thickness_width()),
+                           float(backdrop.thickness_height()));
         glViewport(0, 0, width, height);
         glDisable(GL_CULL_FACE);
         glDepthFunc(GL_LESS);
@@ -221,6 +226,15 @@ struct Renderer::Impl {
         }
         glProgramUniformMatrix4fv(thickness.id, thickness.view_proj, 1, GL_FALSE, vp.m);
         glProgramUniform3f(thickness.id, thickness.eye, b.eye.x, b.eye.y, b.eye.z);
+        const ThicknessPointProgram& tp = thickness_points;
+        glProgramUniformMatrix4fv(tp.id, tp.view_proj, 1, GL_FALSE, vp.m);
+        glProgramUniform3f(tp.id, tp.eye, b.eye.x, b.eye.y, b.eye.z);
+        glProgramUniform3f(tp.id, tp.forward, b.forward.x, b.forward.y, b.forward.z);
+        glProgramUniform3f(tp.id, tp.right, b.right.x, b.right.y, b.right.z);
+        glProgramUniform3f(tp.id, tp.up, b.up.x, b.up.y, b.up.z);
+        glProgramUniform2f(tp.id, tp.half_extent, b.tan_half_fov_y * aspect, b.tan_half_fov_y);
+        glProgramUniform1f(tp.id, tp.pixels_per_unit,
+                           0.5f * float(backdrop.thickness_height()) / b.tan_half_fov_y);
         glProgramUniform3f(sky.id, sky.forward, b.forward.x, b.forward.y, b.forward.z);
         glProgramUniform3f(sky.id, sky.right, b.right.x, b.right.y, b.right.z);
         glProgramUniform3f(sky.id, sky.up, b.up.x, b.up.y, b.up.z);
@@ -565,7 +579,15 @@ struct Renderer::Impl {
         if (has_fluid_surface()) {
             backdrop.begin_thickness();
             glUseProgram(thickness.id);
-            draw_fluid(thickness.id, thickness.scale, -1, true);
+            draw_fluid(thickness.id, thickness.scale, -1, false);
+            if (up.spheres > 0) {
+                glProgramUniform1f(thickness_points.id, thickness_points.radius, up.radius);
+                glEnable(GL_PROGRAM_POINT_SIZE);
+                glUseProgram(thickness_points.id);
+                glBindVertexArray(sphere_point_vao);
+                glDrawArrays(GL_POINTS, 0, up.spheres);
+                glDisable(GL_PROGRAM_POINT_SIZE);
+            }
             backdrop.end_thickness();
         }
         mark(&timings.water_thickness);

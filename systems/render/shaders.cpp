@@ -189,6 +189,53 @@ void main() {
 }
 )";
 
+// The isolated spheres' thickness as one round point each, not 42 vertices: a dam break drawn by scan
+// conversion has some twenty thousand of them. Same targets and meaning as kMeshThicknessFragment: the
+// chord into the sum, the exit and the negated entry into the span, distances along the ray.
+const char* const kSphereThicknessPointVertex = R"(#version 450 core
+layout(location = 0) in float a_x;
+layout(location = 1) in float a_y;
+layout(location = 2) in float a_z;
+uniform mat4 u_view_proj;
+uniform vec3 u_eye;
+uniform float u_radius;
+uniform float u_pixels_per_unit;  // of the target, at distance 1
+uniform float u_max_point_size;
+flat out vec3 v_center;
+void main() {
+    v_center = vec3(a_x, a_y, a_z);
+    gl_Position = u_view_proj * vec4(v_center, 1.0);
+    float d = max(length(v_center - u_eye) - u_radius, 1e-3);
+    gl_PointSize = clamp(2.0 * u_radius * u_pixels_per_unit / d + 2.0, 1.0, u_max_point_size);
+}
+)";
+
+const char* const kSphereThicknessPointFragment = R"(#version 450 core
+uniform vec3 u_eye;
+uniform vec3 u_forward;
+uniform vec3 u_right;
+uniform vec3 u_up;
+uniform vec2 u_half_extent;  // tan of the half field of view, times the aspect for x
+uniform vec2 u_viewport;     // the thickness target's pixels
+uniform float u_radius;
+flat in vec3 v_center;
+layout(location = 0) out float signed_sum;
+layout(location = 1) out vec2 span;
+void main() {
+    vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
+    vec3 ray = normalize(u_forward + ndc.x * u_half_extent.x * u_right + ndc.y * u_half_extent.y * u_up);
+    vec3 oc = u_eye - v_center;
+    float b = dot(oc, ray), c = dot(oc, oc) - u_radius * u_radius;
+    float disc = b * b - c;
+    if (disc <= 0.0) discard;
+    float root = sqrt(disc);
+    float near = -b - root;
+    if (near <= 0.0) discard;
+    signed_sum = 2.0 * root;
+    span = vec2(near + 2.0 * root, -near);
+}
+)";
+
 const char* const kThicknessResolveVertex = R"(#version 450 core
 void main() {
     vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);

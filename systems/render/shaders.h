@@ -30,6 +30,11 @@ extern const char* const kWaterShading;
 // and a depth span, then resolved into one thickness per pixel by a full-screen triangle (u_signed_sum,
 // u_span): see shaders.cpp.
 extern const char* const kMeshThicknessFragment;
+// The isolated spheres' share of it as round points (attributes 0-2 the centre's x, y, z); uniforms
+// u_view_proj, u_eye, u_radius, u_pixels_per_unit, u_max_point_size, u_forward, u_right, u_up,
+// u_half_extent, u_viewport.
+extern const char* const kSphereThicknessPointVertex;
+extern const char* const kSphereThicknessPointFragment;
 extern const char* const kThicknessResolveVertex;
 extern const char* const kThicknessResolveFragment;
 

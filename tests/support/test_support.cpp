@@ -68,6 +68,14 @@ void write_text(const std::string& path, const std::string& text) {
     std::ofstream(path) << text;
 }
 
+SceneDesc facing_scene() {
+    SceneDesc s;
+    s.camera.eye = {0, 0.5f, 3};
+    s.camera.target = {0, 0.5f, 0};
+    s.camera.fov_y_deg = 40;
+    return s;
+}
+
 BoxMesh box_mesh(const float (&lo)[3], const float (&hi)[3]) {
     BoxMesh m;
     for (int axis = 0; axis < 3; ++axis) {

@@ -6,7 +6,13 @@
 #include <string>
 #include <vector>
 
+#include "systems/scenes/scene.h"
+
 namespace rivulet::test {
+
+// An empty scene whose camera looks along -z at (0, 0.5, 0) from 3 units away, 40 degrees high: the
+// screen-space fluid tests draw their particles in front of it.
+SceneDesc facing_scene();
 
 // A closed axis-aligned box as a renderer mesh: 6 floats per vertex (position, outward normal), four
 // vertices and two triangles per face.
