@@ -303,5 +303,26 @@ TEST(WaterComposite, TheThreeMethodsCoverTheSamePixelsOfOneFrame) {
     EXPECT_LT(disagreement(slices, scan), 0.30) << slices_n << " vs " << scan_n << " pixels";
 }
 
+TEST(WaterComposite, MeshMethodsPicturesAreTheSameBytesAtOneAndTwoThreads) {
+    // The thickness is blended in float in primitive order, which llvmpipe keeps at any thread count.
+    for (SurfaceMethod method : {SurfaceMethod::kScan, SurfaceMethod::kSlices}) {
+        std::vector<std::vector<std::uint8_t>> pictures;
+        for (int threads : {1, 2}) {
+            ThreadControl control(threads);
+            PipelineConfig config;
+            config.method = method;
+            config.size = {160, 90};
+            SceneDesc scene = make_builtin_scene("fountain");
+            scene.warmup_frames = 40;
+            FramePipeline pipeline(scene, config);
+            pipeline.warmup();
+            pipeline.run(2);
+            pictures.emplace_back(std::size_t(160) * 90 * 4);
+            pipeline.renderer()->read_rgba(pictures.back());
+        }
+        EXPECT_TRUE(pictures[0] == pictures[1]) << surface_method_name(method);
+    }
+}
+
 }  // namespace
 }  // namespace rivulet
