@@ -87,6 +87,50 @@ TEST(Trace, RunWritesZonesThreadsFramesAndHandOverFlows) {
     }
 }
 
+TEST(Trace, RenderPassesAreZonesInsideTheirRender) {
+    for (SurfaceMethod method : {SurfaceMethod::kSlices, SurfaceMethod::kScreen}) {
+        ThreadControl control(2);
+        TraceRecorder recorder(2);
+        PipelineConfig config;
+        config.size = {160, 90};
+        config.method = method;
+        config.trace = &recorder;
+        SceneDesc scene = make_builtin_scene("fountain");
+        scene.warmup_frames = 30;
+        FramePipeline pipeline(scene, config);
+        pipeline.warmup();
+        pipeline.run(2);
+        std::map<std::uint32_t, TraceZone> render_of_frame;
+        std::map<std::string, std::vector<TraceZone>> parts;
+        for (const TraceZone& z : recorder.zones()) {
+            const std::string& name = recorder.names()[z.name];
+            if (name == "render") render_of_frame[z.frame] = z;
+            if (name.rfind("render.", 0) == 0 || name.rfind("screen.", 0) == 0) parts[name].push_back(z);
+        }
+        ASSERT_EQ(render_of_frame.size(), 2u);
+        const std::vector<std::string> expected =
+            method == SurfaceMethod::kSlices
+                ? std::vector<std::string>{"render.shadow", "render.scene", "render.water_thickness",
+                                           "render.water"}
+                : std::vector<std::string>{"render.shadow",   "render.scene",     "render.screen",
+                                           "screen.depth",    "screen.smoothing", "screen.thickness",
+                                           "screen.composite"};
+        for (const std::string& name : expected) {
+            ASSERT_EQ(parts[name].size(), 2u) << name << " in " << surface_method_name(method);
+            for (const TraceZone& z : parts[name]) {
+                const TraceZone& r = render_of_frame[z.frame];
+                EXPECT_GE(z.begin_ns, r.begin_ns) << name;
+                EXPECT_LE(z.end_ns, r.end_ns) << name;
+                EXPECT_EQ(z.thread, r.thread) << name;
+            }
+        }
+        // The mesh methods have no screen pass.
+        if (method == SurfaceMethod::kSlices) {
+            EXPECT_TRUE(parts["render.screen"].empty());
+        }
+    }
+}
+
 TEST(Trace, FullBuffersDropZonesInsteadOfGrowing) {
     TraceRecorder recorder(1, 3);
     const std::uint16_t name = recorder.intern("job");

@@ -97,6 +97,8 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
         open_video();
     }
     sim_ = std::make_unique<SceneSimulation>(scene_, config_.inputs);
+    // Traced, the render's passes are zones too: GL is finished after each to time it.
+    if (config_.trace) config_.screen.time_passes = true;
     // Every thread that may run a job of the method gets its scratch now, so no frame allocates it later.
     surface_ = make_surface_system({config_.method, config_.scan, config_.slices, config_.screen}, scene_,
                                    static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
@@ -112,10 +114,19 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
         trace_render_ = config_.trace->intern("render");
         trace_png_ = config_.trace->intern("png_encode");
         trace_video_ = config_.trace->intern("video_encode");
+        const char* parts[] = {"render.upload", "render.shadow", "render.scene", "render.water_thickness",
+                               "render.water",  "render.screen", "render.finish"};
+        for (std::size_t i = 0; i < trace_parts_.size(); ++i)
+            trace_parts_[i] = config_.trace->intern(parts[i]);
+        const char* screen_parts[] = {"screen.copy",      "screen.depth",     "screen.smoothing",
+                                      "screen.thickness", "screen.composite", "screen.spray"};
+        for (std::size_t i = 0; i < trace_screen_parts_.size(); ++i)
+            trace_screen_parts_[i] = config_.trace->intern(screen_parts[i]);
     }
     if (config_.render) {
         renderer_ = std::make_unique<Renderer>(config_.size);
         renderer_->set_scene(scene_);
+        renderer_->set_time_passes(config_.trace != nullptr);
         surface_->prepare_renderer(*renderer_);
         if (!config_.out_dir.empty()) {
             std::filesystem::create_directories(config_.out_dir);
@@ -220,12 +231,38 @@ void FramePipeline::finish_extract(int slot) {
     for (FrameGraph::JobId j = 0; j < graph_.job_count(); ++j) pending_.job_ms[j] = graph_.job_ms(j);
 }
 
+// The parts were timed one after another (GL finished after each), so they are laid end to end from the
+// draw's start; the screen-space pass's own parts likewise inside render.screen.
+void FramePipeline::trace_render_parts(std::uint32_t frame, std::int64_t begin_ns) {
+    std::int64_t at = begin_ns;
+    const auto lay = [&](std::uint16_t name, double ms) {
+        const std::int64_t end = at + static_cast<std::int64_t>(ms * 1e6);
+        if (end > at) config_.trace->record(name, frame, -1, at, end);
+        at = end;
+    };
+    const RenderTimings& t = renderer_->timings();
+    const double parts[] = {t.upload, t.shadow, t.scene, t.water_thickness, t.water, t.screen, t.finish};
+    for (std::size_t i = 0; i < trace_parts_.size(); ++i) {
+        if (i == 5 && surface_->method() == SurfaceMethod::kScreen) {
+            const std::int64_t screen_begin = at;
+            const ScreenFluidTimings& s = renderer_->screen_fluid().timings();
+            const double screen[] = {s.copy_scene, s.depth, s.smoothing, s.thickness, s.composite, s.spray};
+            for (std::size_t k = 0; k < trace_screen_parts_.size(); ++k)
+                lay(trace_screen_parts_[k], screen[k]);
+            at = screen_begin;
+        }
+        lay(trace_parts_[i], parts[i]);
+    }
+}
+
 void FramePipeline::render(int slot, int frame_index) {
     if (!renderer_) return;
     FrameView view = slots_[slot].view(scene_.particle_radius);
     surface_->fill_view(slot, view);
     renderer_->set_container_offset(slots_[slot].inputs.container_offset);  // the slosh tank swings
+    const std::int64_t gl_begin = config_.trace ? config_.trace->now_ns() : 0;
     renderer_->render(view);
+    if (config_.trace) trace_render_parts(static_cast<std::uint32_t>(frame_index), gl_begin);
     if (video_ && !video_->finished) {
         VideoRing& v = *video_;
         // The buffer's previous frame must be encoded; it nearly always is (the encoder keeps up).

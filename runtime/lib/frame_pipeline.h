@@ -94,6 +94,7 @@ class FramePipeline {
     void extract(int slot, std::uint32_t frame_index, bool async);
     void finish_extract(int slot);
     void render(int slot, int frame_index);
+    void trace_render_parts(std::uint32_t frame, std::int64_t begin_ns);
 
     SceneDesc scene_;
     PipelineConfig config_;
@@ -111,6 +112,9 @@ class FramePipeline {
     std::vector<FrameRecord> records_;
     FrameRecord pending_;  // extraction figures of the frame in flight
     std::uint16_t trace_render_ = 0, trace_png_ = 0, trace_video_ = 0;
+    // The render's parts (RenderTimings order) and the screen-space pass's (ScreenFluidTimings order).
+    std::array<std::uint16_t, 7> trace_parts_{};
+    std::array<std::uint16_t, 6> trace_screen_parts_{};
 };
 
 }  // namespace rivulet

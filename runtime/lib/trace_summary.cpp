@@ -254,11 +254,18 @@ TraceSummary summarize_trace(const nlohmann::json& trace) {
 
     // Wall, busy, idle per thread. Nested jobs run inside their parent's zone: their zones (not the
     // parent's) count as busy time, so no work is counted twice.
+    // The render's passes (render.*, and the screen-space pass's screen.* outside the graph) lie inside
+    // its zone: the render counts, not they.
+    const auto inside_render = [&g](std::size_t name) {
+        const std::string& n = g.names[name];
+        return name >= g.jobs && (n.rfind("render.", 0) == 0 || n.rfind("screen.", 0) == 0);
+    };
     double first = 1e300, last = -1e300;
     std::map<int, double> busy;
     for (const Zone& z : zones) {
         first = std::min(first, z.begin), last = std::max(last, z.end);
-        if (z.name >= g.jobs || !g.parent[z.name]) busy[z.tid] += z.end - z.begin;
+        if ((z.name >= g.jobs && !inside_render(z.name)) || (z.name < g.jobs && !g.parent[z.name]))
+            busy[z.tid] += z.end - z.begin;
     }
     s.wall_ms = (last - first) * 1e-3;
     for (const auto& [tid, name] : thread_names) busy.emplace(tid, 0.0);
@@ -271,7 +278,7 @@ TraceSummary summarize_trace(const nlohmann::json& trace) {
     s.parallelism = s.wall_ms > 0 ? s.busy_ms / s.wall_ms : 0;
 
     // Per frame: job spans (critical path) and the extraction span (overlap with the previous render).
-    const std::size_t render_name = g.intern("render"), png_name = g.intern("png_encode");
+    const std::size_t render_name = g.intern("render");
     std::vector<std::size_t> by_frame(zones.size());
     std::iota(by_frame.begin(), by_frame.end(), std::size_t{0});
     std::stable_sort(by_frame.begin(), by_frame.end(),
@@ -305,7 +312,7 @@ TraceSummary summarize_trace(const nlohmann::json& trace) {
             const Zone& z = zones[by_frame[i]];
             if (z.name == render_name) {
                 render[z.frame].add(z.begin, z.end);
-            } else if (z.name != png_name) {
+            } else if (z.name < g.jobs) {  // not render's passes, PNG or video encoding
                 extraction[z.frame].add(z.begin, z.end);
                 any = true;
             }

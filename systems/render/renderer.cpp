@@ -633,8 +633,10 @@ struct Renderer::Impl {
         draw_glass(glass_back);
         mark(&timings.scene);
         draw_water();
-        if (screen) screen->render(frame.sprites, frame.spray, frame.sphere_radius);
-        mark(&timings.screen);
+        if (screen) {
+            screen->render(frame.sprites, frame.spray, frame.sphere_radius);
+            mark(&timings.screen);
+        }
         draw_glass(glass_front);
         glBindVertexArray(0);
         glFinish();
