@@ -129,23 +129,28 @@ TEST(Recording, ReplayMatchesAtOneAndTwoThreadsAndCatchesAPerturbedInputAtItsFra
 // ones also with the baseline (SSE2) builds of the scan kernels that have an AVX2 build
 // (jobs/cpu_dispatch.h). Marching slices' two builds are compared block by block instead
 // (test_marching_slices, Avx2AndBaselineBuildsSweepTheSameBytes), which keeps this test well inside its
-// time limit under TSan.
-TEST(Recording, GoldenRecordingsReplayIdenticallyAtOneAndTwoThreadsAndWithoutAvx2) {
-    for (const char* name : {"fountain_scan", "faucet_scan", "faucet_slices", "dambreak_small_slices"}) {
-        const std::string path = std::string(RIVULET_SOURCE_DIR) + "/tests/golden/" + name + ".rivrec";
-        const bool scan = std::string(name).ends_with("_scan");
-        for (const char* threads : {"1", "2"}) {
-            for (const char* environment : {"", "RIVULET_NO_AVX2=1"}) {
-                if (!scan && *environment) continue;
-                const test::Result res =
-                    test::run_cli("replay " + path + " --threads " + threads, environment);
-                EXPECT_EQ(res.status, 0) << name << " at " << threads << " threads " << environment << ":\n"
-                                         << res.output;
-                EXPECT_NE(res.output.find("identical"), std::string::npos) << res.output;
-            }
+// time limit under TSan. One test per recording, so CTest runs them side by side.
+class GoldenRecording : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(GoldenRecording, ReplaysIdenticallyAtOneAndTwoThreadsAndWithoutAvx2) {
+    const std::string name = GetParam();
+    const std::string path = std::string(RIVULET_SOURCE_DIR) + "/tests/golden/" + name + ".rivrec";
+    const bool scan = name.ends_with("_scan");
+    for (const char* threads : {"1", "2"}) {
+        for (const char* environment : {"", "RIVULET_NO_AVX2=1"}) {
+            if (!scan && *environment) continue;
+            const test::Result res = test::run_cli("replay " + path + " --threads " + threads, environment);
+            EXPECT_EQ(res.status, 0) << name << " at " << threads << " threads " << environment << ":\n"
+                                     << res.output;
+            EXPECT_NE(res.output.find("identical"), std::string::npos) << res.output;
         }
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Recording, GoldenRecording,
+                         ::testing::Values("fountain_scan", "faucet_scan", "faucet_slices",
+                                           "dambreak_small_slices"),
+                         [](const auto& param) { return std::string(param.param); });
 
 TEST(Recording, ReplayOfAPerturbedFileReportsTheFrameAndExitsOne) {
     Recording r = record("faucet", 10, 8);
