@@ -10,8 +10,6 @@
 #include <vector>
 
 #include "jobs/counter_rng.h"
-#include "runtime/lib/frame_pipeline.h"
-#include "runtime/lib/thread_control.h"
 #include "support/test_support.h"
 #include "systems/render/camera.h"
 #include "systems/render/renderer.h"
@@ -357,24 +355,6 @@ TEST(ScreenFluid, PixelsWithoutFluidKeepTheSceneExactly) {
     EXPECT_EQ(changed_outside, 0u);
     EXPECT_GT(inside, 120u);
     EXPECT_EQ(changed_inside, inside);
-}
-
-TEST(ScreenFluid, FramePicturesAreTheSameBytesAtOneAndTwoThreads) {
-    std::vector<std::vector<std::uint8_t>> pictures;
-    for (int threads : {1, 2}) {
-        ThreadControl control(threads);
-        PipelineConfig config;
-        config.method = SurfaceMethod::kScreen;
-        config.size = {160, 90};
-        SceneDesc scene = make_builtin_scene("fountain");
-        scene.warmup_frames = 40;
-        FramePipeline pipeline(scene, config);
-        pipeline.warmup();
-        pipeline.run(2);
-        pictures.emplace_back(std::size_t(160) * 90 * 4);
-        pipeline.renderer()->read_rgba(pictures.back());
-    }
-    EXPECT_TRUE(pictures[0] == pictures[1]);
 }
 
 }  // namespace rivulet

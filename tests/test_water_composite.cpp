@@ -39,7 +39,7 @@ struct WaterInputs {
 class ShadeWaterProbe {
   public:
     ShadeWaterProbe() : context_(16, 16) {
-        const GLuint vs = compile_shader(GL_VERTEX_SHADER, {shaders::kThicknessResolveVertex}, "probe.vert");
+        const GLuint vs = compile_shader(GL_VERTEX_SHADER, {shaders::kFullScreenVertex}, "probe.vert");
         const GLuint fs =
             compile_shader(GL_FRAGMENT_SHADER,
                            {shaders::kFragmentPrelude, shaders::kWaterShading, kProbeFragment}, "probe.frag");
@@ -303,9 +303,9 @@ TEST(WaterComposite, TheThreeMethodsCoverTheSamePixelsOfOneFrame) {
     EXPECT_LT(disagreement(slices, scan), 0.30) << slices_n << " vs " << scan_n << " pixels";
 }
 
-TEST(WaterComposite, MeshMethodsPicturesAreTheSameBytesAtOneAndTwoThreads) {
+TEST(WaterComposite, PicturesAreTheSameBytesAtOneAndTwoThreads) {
     // The thickness is blended in float in primitive order, which llvmpipe keeps at any thread count.
-    for (SurfaceMethod method : {SurfaceMethod::kScan, SurfaceMethod::kSlices}) {
+    for (SurfaceMethod method : {SurfaceMethod::kScan, SurfaceMethod::kSlices, SurfaceMethod::kScreen}) {
         std::vector<std::vector<std::uint8_t>> pictures;
         for (int threads : {1, 2}) {
             ThreadControl control(threads);

@@ -1,5 +1,8 @@
 #include "systems/render/gl_buffer.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace rivulet {
 namespace {
 
@@ -64,6 +67,43 @@ GLuint create_instanced_sphere_vao(GLuint vbo, GLuint ibo, GLuint instance_vbo) 
     attribute(2, 1, 0);
     glBindVertexArray(0);
     return vao;
+}
+
+GLuint create_texture_2d(GLenum internal_format, int width, int height, GLenum filter) {
+    GLuint t = 0;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexStorage2D(GL_TEXTURE_2D, 1, internal_format, width, height);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return t;
+}
+
+GLuint create_framebuffer(std::initializer_list<GLuint> colors, GLuint depth, const char* what) {
+    GLuint f = 0;
+    glGenFramebuffers(1, &f);
+    glBindFramebuffer(GL_FRAMEBUFFER, f);
+    GLenum buffers[8] = {};
+    GLsizei count = 0;
+    for (GLuint c : colors) {
+        if (count == 8) break;
+        buffers[count] = GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(count);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, buffers[count], GL_TEXTURE_2D, c, 0);
+        ++count;
+    }
+    glDrawBuffers(count, buffers);
+    if (depth) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE || colors.size() > 8) {
+        glDeleteFramebuffers(1, &f);
+        throw std::runtime_error(std::string(what) + ": a render target is incomplete (status " +
+                                 std::to_string(status) + ")");
+    }
+    return f;
 }
 
 }  // namespace rivulet

@@ -2,6 +2,7 @@
 // Small GL object helpers shared by the renderer's draw paths. libOSMesa exports no direct-state-access
 // entry points (glNamedBufferData and friends do not link), so these bind explicitly.
 #include <cstddef>
+#include <initializer_list>
 
 #include "systems/render/gl.h"
 
@@ -22,6 +23,12 @@ struct GrowingBuffer {
     // Copies `bytes` to offset 0, respecifying the storage (larger, with headroom) when it does not fit.
     void upload(const void* data, std::size_t bytes);
 };
+
+// A 2D texture of one level, clamped at its edges, filtered by `filter` (GL_NEAREST or GL_LINEAR).
+GLuint create_texture_2d(GLenum internal_format, int width, int height, GLenum filter);
+// A framebuffer with `colors` as attachments 0, 1, ... (all drawn to) and `depth` (0: none). Throws
+// std::runtime_error naming `what` when GL finds it incomplete.
+GLuint create_framebuffer(std::initializer_list<GLuint> colors, GLuint depth, const char* what);
 
 // Vertex array reading interleaved position/normal (6 floats) from `vbo` and indices from `ibo`.
 // Attribute 2 (instance offset) stays disabled, so it reads the constant (0, 0, 0).

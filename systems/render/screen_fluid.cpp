@@ -13,6 +13,7 @@
 #include "systems/render/gl_program.h"
 #include "systems/render/screen_fluid_shaders.h"
 #include "systems/render/shaders.h"
+#include "systems/render/thickness_targets.h"
 
 namespace rivulet {
 
@@ -109,30 +110,6 @@ Program build(std::initializer_list<const char*> vertex, std::initializer_list<c
     return p;
 }
 
-GLuint texture_2d(GLenum internal_format, int width, int height, GLenum filter) {
-    GLuint t = 0;
-    glGenTextures(1, &t);
-    glBindTexture(GL_TEXTURE_2D, t);
-    glTexStorage2D(GL_TEXTURE_2D, 1, internal_format, width, height);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return t;
-}
-
-GLuint framebuffer(GLuint color, GLuint depth) {
-    GLuint f = 0;
-    glGenFramebuffers(1, &f);
-    glBindFramebuffer(GL_FRAMEBUFFER, f);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color, 0);
-    if (depth) glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw std::runtime_error("ScreenFluidPass: a render target is incomplete");
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    return f;
-}
-
 // Uniform locations of one smoothing program; -1 for those it does not have.
 struct SmoothingUniforms {
     GLint step = -1, world_sigma = -1, max_radius = -1, max_taps = -1, depth_sigma = -1, threshold = -1,
@@ -193,21 +170,26 @@ GLuint column_vao(std::initializer_list<const GrowingBuffer*> columns, GLuint di
     return v;
 }
 
+const ScreenFluidSettings& validated(const ScreenFluidSettings& s) {
+    if (const std::string problem = s.validate(); !problem.empty()) throw std::invalid_argument(problem);
+    return s;
+}
+
 }  // namespace
 
 struct ScreenFluidPass::Impl {
     ScreenFluidSettings settings;
     int width, height, thick_w, thick_h;
-    Program depth, thickness, thickness_resolve, close_holes, smoothing, thickness_blur, composite, spray;
+    ThicknessTargets thick;  // the chords' sum within their span (thickness_targets.h), then blurred
+    Program depth, thickness, close_holes, smoothing, thickness_blur, composite, spray;
     SmoothingUniforms smooth_u;
     GLint depth_radius = -1, thickness_radius = -1;
     GLint blur_step = -1, blur_sigma = -1, close_holes_jump = -1, close_holes_gap = -1;
     GLint composite_light = -1, composite_absorption = -1, composite_water = -1,
           composite_has_environment = -1;
     GLint spray_radius = -1, spray_water = -1;
-    GLuint depth_a = 0, depth_b = 0, depth_test = 0, thick = 0, thick_b = 0, thick_span = 0, scene_color = 0,
-           scene_depth = 0;
-    GLuint fbo_a = 0, fbo_b = 0, thick_fbo = 0, thick_fbo_b = 0, thick_accumulate_fbo = 0;
+    GLuint depth_a = 0, depth_b = 0, depth_test = 0, thick_b = 0, scene_color = 0, scene_depth = 0;
+    GLuint fbo_a = 0, fbo_b = 0, thick_fbo_b = 0;
     GLuint smoothed_fbo = 0, smoothed_texture = 0;  // where the last frame's smoothing ended
     GLuint environment = 0;
     GrowingBuffer xs, ys, zs;
@@ -220,20 +202,18 @@ struct ScreenFluidPass::Impl {
     Clock::time_point mark_time;
 
     Impl(int w, int h, const ScreenFluidSettings& s)
-        : settings(s),
+        : settings(validated(s)),
           width(w),
           height(h),
           thick_w((w + s.thickness_downsample - 1) / s.thickness_downsample),
-          thick_h((h + s.thickness_downsample - 1) / s.thickness_downsample) {
-        if (const std::string problem = s.validate(); !problem.empty()) throw std::invalid_argument(problem);
+          thick_h((h + s.thickness_downsample - 1) / s.thickness_downsample),
+          thick(thick_w, thick_h) {
         using namespace shaders;
         depth = build({kVersion, kScreenCamera, kSphereQuadVertex},
                       {kFragmentPrelude, kScreenCamera, kSphereHit, kSphereDepthFragment}, "fluid_depth");
         thickness =
             build({kVersion, kScreenCamera, kSphereQuadVertex},
                   {kFragmentPrelude, kScreenCamera, kSphereHit, kSphereThicknessFragment}, "fluid_thickness");
-        thickness_resolve =
-            build({kThicknessResolveVertex}, {kThicknessResolveFragment}, "thickness_resolve");
         close_holes =
             build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kCloseHolesFragment}, "close_holes");
         smoothing = build_smoothing(s.smoothing);
@@ -256,27 +236,16 @@ struct ScreenFluidPass::Impl {
         composite_water = uniform_location(composite.id, "u_water_color", "composite");
         composite_has_environment = uniform_location(composite.id, "u_has_environment", "composite");
 
-        depth_a = texture_2d(GL_R32F, w, h, GL_NEAREST);
-        depth_b = texture_2d(GL_R32F, w, h, GL_NEAREST);
-        depth_test = texture_2d(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
-        thick = texture_2d(GL_R32F, thick_w, thick_h, GL_LINEAR);
-        thick_b = texture_2d(GL_R32F, thick_w, thick_h, GL_NEAREST);
-        thick_span = texture_2d(GL_RG32F, thick_w, thick_h, GL_NEAREST);
-        scene_color = texture_2d(GL_RGBA8, w, h, GL_LINEAR);
-        scene_depth = texture_2d(GL_DEPTH_COMPONENT24, w, h, GL_NEAREST);
+        depth_a = create_texture_2d(GL_R32F, w, h, GL_NEAREST);
+        depth_b = create_texture_2d(GL_R32F, w, h, GL_NEAREST);
+        depth_test = create_texture_2d(GL_DEPTH_COMPONENT32F, w, h, GL_NEAREST);
+        thick_b = create_texture_2d(GL_R32F, thick_w, thick_h, GL_NEAREST);
+        scene_color = create_texture_2d(GL_RGBA8, w, h, GL_LINEAR);
+        scene_depth = create_texture_2d(GL_DEPTH_COMPONENT24, w, h, GL_NEAREST);
         // The smoothing targets share the depth pass's depth buffer: it tells which pixels hold fluid.
-        fbo_a = framebuffer(depth_a, depth_test);
-        fbo_b = framebuffer(depth_b, depth_test);
-        thick_fbo = framebuffer(thick, 0);
-        thick_fbo_b = framebuffer(thick_b, 0);
-        thick_accumulate_fbo = framebuffer(thick_b, 0);
-        glBindFramebuffer(GL_FRAMEBUFFER, thick_accumulate_fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, thick_span, 0);
-        const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-        glDrawBuffers(2, both);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            throw std::runtime_error("ScreenFluidPass: the thickness target is incomplete");
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        fbo_a = create_framebuffer({depth_a}, depth_test, "ScreenFluidPass");
+        fbo_b = create_framebuffer({depth_b}, depth_test, "ScreenFluidPass");
+        thick_fbo_b = create_framebuffer({thick_b}, 0, "ScreenFluidPass");
         smoothed_fbo = fbo_a, smoothed_texture = depth_a;
 
         xs.create(), ys.create(), zs.create();
@@ -301,8 +270,6 @@ struct ScreenFluidPass::Impl {
         close_holes_jump = uniform_location(close_holes.id, "u_jump", "close_holes");
         close_holes_gap = uniform_location(close_holes.id, "u_gap", "close_holes");
         unit(thickness_blur, "u_thickness", 0);
-        unit(thickness_resolve, "u_signed_sum", 0);
-        unit(thickness_resolve, "u_span", 1);
         unit(spray, "u_depth", 0);
         set_water(WaterLook{});
         glProgramUniform1i(composite.id, composite_has_environment, 0);
@@ -318,14 +285,13 @@ struct ScreenFluidPass::Impl {
     }
 
     ~Impl() {
-        for (GLuint p : {depth.id, thickness.id, thickness_resolve.id, close_holes.id, smoothing.id,
-                         thickness_blur.id, composite.id, spray.id})
+        for (GLuint p : {depth.id, thickness.id, close_holes.id, smoothing.id, thickness_blur.id,
+                         composite.id, spray.id})
             glDeleteProgram(p);
-        const GLuint textures[] = {depth_a, depth_b,    depth_test,  thick,
-                                   thick_b, thick_span, scene_color, scene_depth};
-        glDeleteTextures(8, textures);
-        const GLuint fbos[] = {fbo_a, fbo_b, thick_fbo, thick_fbo_b, thick_accumulate_fbo};
-        glDeleteFramebuffers(5, fbos);
+        const GLuint textures[] = {depth_a, depth_b, depth_test, thick_b, scene_color, scene_depth};
+        glDeleteTextures(6, textures);
+        const GLuint fbos[] = {fbo_a, fbo_b, thick_fbo_b};
+        glDeleteFramebuffers(3, fbos);
         const GLuint buffers[] = {xs.id, ys.id, zs.id, spray_xs.id, spray_ys.id, spray_zs.id};
         glDeleteBuffers(6, buffers);
         const GLuint vaos[] = {vao, spray_vao};
@@ -483,10 +449,10 @@ struct ScreenFluidPass::Impl {
         viewport(thickness_blur, thick_w, thick_h);
         glActiveTexture(GL_TEXTURE0);
         glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo_b);
-        glBindTexture(GL_TEXTURE_2D, thick);
+        glBindTexture(GL_TEXTURE_2D, thick.texture());
         glProgramUniform2i(thickness_blur.id, blur_step, 1, 0);
         full_screen(thickness_blur);
-        glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, thick.framebuffer());
         glBindTexture(GL_TEXTURE_2D, thick_b);
         glProgramUniform2i(thickness_blur.id, blur_step, 0, 1);
         full_screen(thickness_blur);
@@ -544,26 +510,11 @@ struct ScreenFluidPass::Impl {
 
         // Thickness: every sphere's chord, summed, at most the span from the nearest sphere to the farthest
         // (kSphereThicknessFragment), then blurred.
-        glBindFramebuffer(GL_FRAMEBUFFER, thick_accumulate_fbo);
+        thick.begin();
         viewport(thickness, thick_w, thick_h);
-        const float zero[4] = {0, 0, 0, 0}, span_clear[4] = {0, -3.0e38f, 0, 0};
-        glClearBufferfv(GL_COLOR, 0, zero);
-        glClearBufferfv(GL_COLOR, 1, span_clear);
-        glEnable(GL_BLEND);
-        glBlendFunc(GL_ONE, GL_ONE);
-        glBlendEquationi(0, GL_FUNC_ADD);
-        glBlendEquationi(1, GL_MAX);
         glProgramUniform1f(thickness.id, thickness_radius, radius);
         draw_spheres(thickness, n);
-        glBlendEquation(GL_FUNC_ADD);
-        glDisable(GL_BLEND);
-        glBindFramebuffer(GL_FRAMEBUFFER, thick_fbo);
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D, thick_b);
-        glActiveTexture(GL_TEXTURE1);
-        glBindTexture(GL_TEXTURE_2D, thick_span);
-        full_screen(thickness_resolve);
-        glActiveTexture(GL_TEXTURE0);
+        thick.resolve();
         blur_thickness();
         mark(&timings.thickness);
 
@@ -618,7 +569,7 @@ struct ScreenFluidPass::Impl {
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, smoothed_texture);
         glActiveTexture(GL_TEXTURE1);
-        glBindTexture(GL_TEXTURE_2D, thick);
+        glBindTexture(GL_TEXTURE_2D, thick.texture());
         glActiveTexture(GL_TEXTURE4);
         glBindTexture(GL_TEXTURE_CUBE_MAP, environment);
         glDepthMask(GL_FALSE);
@@ -639,7 +590,7 @@ struct ScreenFluidPass::Impl {
         // The raw depth is overwritten by smoothing: only readable as such without filter passes.
         if (which == ScreenFluidBuffer::kRawDepth && settings.filter_iterations > 0)
             throw std::logic_error("ScreenFluidPass::read: the raw depth is smoothed in place");
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, thin ? thick_fbo : smoothed_fbo);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, thin ? thick.framebuffer() : smoothed_fbo);
         glPixelStorei(GL_PACK_ALIGNMENT, 4);
         glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, out.data());
         glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);

@@ -93,15 +93,6 @@ void main() {
 }
 )";
 
-// At the far plane (window depth 1): with the depth pass's buffer attached and GL_GREATER, only pixels a
-// sphere covered are shaded.
-const char* const kFullScreenVertex = R"(#version 450 core
-void main() {
-    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-    gl_Position = vec4(p, 1.0, 1.0);
-}
-)";
-
 // The width every smoothing filter shares: a Gaussian whose sigma is a fixed world length, so its screen
 // radius follows depth (far fluid is not smoothed more than near fluid), at most u_max_radius pixels,
 // read with at most u_max_taps taps a side (a stride beyond that), and the depth sampler both read.

@@ -1,7 +1,8 @@
 #pragma once
 // GLSL 4.50 sources of the screen-space fluid passes (van der Laan, Green & Sainz 2009; seed 004 §3.1).
 // A program is the concatenation: vertex stages kVersion + kScreenCamera + stage, fragment stages
-// kFragmentPrelude (version and sky colour) + kScreenCamera + stage; kFullScreenVertex stands alone.
+// kFragmentPrelude (version and sky colour) + kScreenCamera + stage; full-screen passes use
+// shaders::kFullScreenVertex (shaders.h).
 
 namespace rivulet::shaders {
 
@@ -15,8 +16,6 @@ extern const char* const kSphereHit;
 extern const char* const kSphereDepthFragment;
 extern const char* const kSphereThicknessFragment;
 
-// Full-screen triangle from gl_VertexID.
-extern const char* const kFullScreenVertex;
 extern const char* const kCloseHolesFragment;
 // The depth-following filter width (kFilterWidth) goes before the two filters that use it.
 extern const char* const kFilterWidth;

@@ -236,10 +236,12 @@ void main() {
 }
 )";
 
-const char* const kThicknessResolveVertex = R"(#version 450 core
+// At the far plane (window depth 1): with the screen-space depth pass's buffer attached and GL_GREATER,
+// only pixels a sphere covered are shaded; without a depth test it covers the target.
+const char* const kFullScreenVertex = R"(#version 450 core
 void main() {
     vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-    gl_Position = vec4(p, 0.0, 1.0);
+    gl_Position = vec4(p, 1.0, 1.0);
 }
 )";
 

@@ -27,16 +27,18 @@ extern const char* const kLitFragment;
 // shader's main.
 extern const char* const kWaterShading;
 // The fluid surfaces' thickness (kLitVertex's outputs; uniform u_eye) into a signed sum
-// and a depth span, then resolved into one thickness per pixel by a full-screen triangle (u_signed_sum,
-// u_span): see shaders.cpp.
+// and a depth span, then resolved into one thickness per pixel over kFullScreenVertex (u_signed_sum,
+// u_span): see shaders.cpp and thickness_targets.h.
 extern const char* const kMeshThicknessFragment;
 // The isolated spheres' share of it as round points (attributes 0-2 the centre's x, y, z); uniforms
 // u_view_proj, u_eye, u_radius, u_pixels_per_unit, u_max_point_size, u_forward, u_right, u_up,
 // u_half_extent, u_viewport.
 extern const char* const kSphereThicknessPointVertex;
 extern const char* const kSphereThicknessPointFragment;
-extern const char* const kThicknessResolveVertex;
 extern const char* const kThicknessResolveFragment;
+
+// A triangle covering the target, from gl_VertexID (3 vertices, no attributes), at window depth 1.
+extern const char* const kFullScreenVertex;
 
 // Full-screen sky from gl_VertexID (3 vertices, no attributes), sampling u_environment. Uniforms:
 // u_forward, u_right, u_up, u_half_extent (tan of the half field of view, x and y).
