@@ -11,6 +11,8 @@ pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
 pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 # FFmpeg's libraries encode `run --video` (systems/render/video_writer.cpp, docs/video.md).
 pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavcodec libavformat libavutil libswscale)
+# Assimp reads the meshes diffuse objects are voxelized from (systems/io/assimp_mesh.cpp).
+pkg_check_modules(ASSIMP REQUIRED IMPORTED_TARGET assimp)
 if(RIVULET_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)
 endif()

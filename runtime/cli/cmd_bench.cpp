@@ -103,17 +103,29 @@ int bench(const BenchOptions& o) {
     const std::vector<std::string> methods = split_list(o.methods, "--methods");
     const std::vector<int> threads = thread_counts(o.threads);
     // Every scene is read and checked here, so a bad one fails before any case runs.
-    for (const std::string& scene : scenes) resolve_scene(scene);
+    // A diffuse scene has one method, sprites; fluid scenes run every method asked for but sprites.
+    std::vector<bool> diffuse;
+    for (const std::string& scene : scenes)
+        diffuse.push_back(resolve_scene(scene).simulation == SimulationKind::kDiffuse);
     for (const std::string& method : methods) parse_surface_method(method);
+    const auto methods_of = [&](std::size_t s) {
+        std::vector<std::string> m;
+        if (diffuse[s]) return std::vector<std::string>{"sprites"};
+        for (const std::string& method : methods)
+            if (method != "sprites") m.push_back(method);
+        return m;
+    };
     const std::string exe = std::filesystem::read_symlink("/proc/self/exe").string();
     const std::string cases_dir = o.out + "/cases";
     std::filesystem::create_directories(cases_dir);
 
     std::vector<BenchCase> cases;
-    const std::size_t total = scenes.size() * methods.size() * threads.size();
-    for (const std::string& scene : scenes)
-        for (const std::string& method : methods)
+    std::size_t total = 0;
+    for (std::size_t s = 0; s < scenes.size(); ++s) total += methods_of(s).size() * threads.size();
+    for (std::size_t s = 0; s < scenes.size(); ++s)
+        for (const std::string& method : methods_of(s))
             for (int t : threads) {
+                const std::string& scene = scenes[s];
                 const std::string stem = fmt::format("{}/{}_{}_t{}", cases_dir,
                                                      std::filesystem::path(scene).stem().string(), method, t);
                 std::vector<std::string> args = {exe,

@@ -19,7 +19,7 @@ namespace {
 
 struct RunOptions {
     SceneOptions scene;
-    std::string method = "scan";
+    std::string method;  // empty: scan, or sprites for a diffuse scene
     int threads = 0;
     std::string out = "out";
     std::string video;
@@ -62,10 +62,11 @@ int run(const RunOptions& o) {
         throw std::invalid_argument(fmt::format("--timing-warmup ({}) must be less than --frames ({})",
                                                 o.timing_warmup, o.scene.frames));
     SceneDesc scene = o.scene.resolve();
+    const std::string method = default_method(o.method, scene);
 
     ThreadControl threads(o.threads);
     PipelineConfig config;
-    config.method = parse_surface_method(o.method);
+    config.method = parse_surface_method(method);
     config.scan = o.scan.resolve();
     config.slices.voxel = o.slices.voxel;
     config.slices.block_cubes = o.slices.block;
@@ -118,7 +119,7 @@ int run(const RunOptions& o) {
     fmt::print(
         "scene {} | method {} | {} frames | {} threads | {} particles, {} {}, {} isolated, {} "
         "triangles (last frame)\n",
-        scene.name, o.method, recs.size(), threads.threads(), last.particles, last.groups,
+        scene.name, method, recs.size(), threads.threads(), last.particles, last.groups,
         config.method == SurfaceMethod::kSlices ? "blocks" : "groups", last.isolated, last.triangles);
     fmt::print("{}", format_stage_table(summary, config.render));
     // A limit that was hit is reported (DESIGN §3.6): the picture is right but drawn with fewer cylinders.
@@ -157,7 +158,7 @@ int run(const RunOptions& o) {
     if (!o.json.empty()) {
         nlohmann::json j = stage_json(summary);
         j["scene"] = scene.name;
-        j["method"] = o.method;
+        j["method"] = surface_method_name(pipeline.config().method);
         j["threads"] = threads.threads();
         j["pipelined"] = config.pipelined;
         j["particles"] = last.particles;

@@ -31,6 +31,8 @@ struct ScanOptions {
 // The options every extracting command shares, each with its check: --method (scan or slices, and
 // screen where frames are rendered) and --threads (0 = all hardware threads, at most 1024).
 void add_method_option(CLI::App& cmd, std::string& method, bool rendered);
+// The method a rendered command uses: `given`, or when empty scan (sprites for a diffuse scene).
+std::string default_method(const std::string& given, const SceneDesc& scene);
 void add_threads_option(CLI::App& cmd, int& threads, const std::string& help);
 
 // The scene options `run` and `simulate` share: --scene (built-in name or FILE.json), --frames in

@@ -58,21 +58,29 @@ ScanSettings ScanOptions::resolve() const {
     return s;
 }
 
+std::string default_method(const std::string& given, const SceneDesc& scene) {
+    if (!given.empty()) return given;
+    return scene.simulation == SimulationKind::kDiffuse ? "sprites" : "scan";
+}
+
 void add_method_option(CLI::App& cmd, std::string& method, bool rendered) {
-    cmd.add_option("--method", method,
-                   rendered
-                       ? "Surface method: scan (sphere scan conversion), slices (marching slices) or screen "
-                         "(screen-space fluid, drawn without a mesh)"
-                       : "Surface method: scan (sphere scan conversion) or slices (marching slices)")
-        ->capture_default_str()
-        ->check(CLI::Validator(
-            [rendered](std::string& m) -> std::string {
-                if (m == "scan" || m == "slices" || (rendered && m == "screen")) return {};
-                if (m == "screen") return "'screen' draws the fluid and makes no mesh: use it with 'run'";
-                return fmt::format("'{}' is not a surface method: choose 'scan', 'slices'{}", m,
-                                   rendered ? " or 'screen'" : "");
-            },
-            "METHOD"));
+    auto* opt = cmd.add_option(
+        "--method", method,
+        rendered ? "Surface method: scan (sphere scan conversion), slices (marching slices), "
+                   "screen (screen-space fluid, drawn without a mesh) or sprites (the "
+                   "particles of a diffuse object; default for diffuse scenes, scan otherwise)"
+                 : "Surface method: scan (sphere scan conversion) or slices (marching slices)");
+    if (!rendered) opt->capture_default_str();
+    opt->check(CLI::Validator(
+        [rendered](std::string& m) -> std::string {
+            if (m == "scan" || m == "slices" || (rendered && (m == "screen" || m == "sprites"))) return {};
+            if (m == "sprites")
+                return "'sprites' draws a diffuse object and makes no mesh: use it with 'run'";
+            if (m == "screen") return "'screen' draws the fluid and makes no mesh: use it with 'run'";
+            return fmt::format("'{}' is not a surface method: choose 'scan', 'slices'{}", m,
+                               rendered ? ", 'screen' or 'sprites'" : "");
+        },
+        "METHOD"));
 }
 
 void ScreenOptions::add_to(CLI::App& cmd) {

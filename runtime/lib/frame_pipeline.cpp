@@ -100,8 +100,9 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
     // Traced, the render's passes are zones too: GL is finished after each to time it.
     if (config_.trace) config_.screen.time_passes = true;
     // Every thread that may run a job of the method gets its scratch now, so no frame allocates it later.
-    surface_ = make_surface_system({config_.method, config_.scan, config_.slices, config_.screen}, scene_,
-                                   static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()));
+    surface_ =
+        make_surface_system({config_.method, config_.scan, config_.slices, config_.screen}, scene_,
+                            static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()), sim_.get());
     for (FrameSlot& slot : slots_) {
         const HeightFieldView pool = sim_->pool_view();
         slot.pool_heights.reserve(std::max<std::size_t>(pool.heights.size(), 1));
@@ -114,8 +115,8 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
         trace_render_ = config_.trace->intern("render");
         trace_png_ = config_.trace->intern("png_encode");
         trace_video_ = config_.trace->intern("video_encode");
-        const char* parts[] = {"render.upload", "render.shadow", "render.scene", "render.water_thickness",
-                               "render.water",  "render.screen", "render.finish"};
+        const char* parts[] = {"render.upload", "render.shadow", "render.scene",   "render.water_thickness",
+                               "render.water",  "render.screen", "render.diffuse", "render.finish"};
         for (std::size_t i = 0; i < trace_parts_.size(); ++i)
             trace_parts_[i] = config_.trace->intern(parts[i]);
         const char* screen_parts[] = {"screen.copy",      "screen.depth",     "screen.smoothing",
@@ -241,7 +242,8 @@ void FramePipeline::trace_render_parts(std::uint32_t frame, std::int64_t begin_n
         at = end;
     };
     const RenderTimings& t = renderer_->timings();
-    const double parts[] = {t.upload, t.shadow, t.scene, t.water_thickness, t.water, t.screen, t.finish};
+    const double parts[] = {t.upload, t.shadow, t.scene,   t.water_thickness,
+                            t.water,  t.screen, t.diffuse, t.finish};
     for (std::size_t i = 0; i < trace_parts_.size(); ++i) {
         if (i == 5 && surface_->method() == SurfaceMethod::kScreen) {
             const std::int64_t screen_begin = at;
@@ -260,6 +262,15 @@ void FramePipeline::render(int slot, int frame_index) {
     FrameView view = slots_[slot].view(scene_.particle_radius);
     surface_->fill_view(slot, view);
     renderer_->set_container_offset(slots_[slot].inputs.container_offset);  // the slosh tank swings
+    if (scene_.simulation == SimulationKind::kDiffuse) {
+        // The colliders where the frame's simulation left them: a pure function of the scene and frame.
+        std::array<Vec3f, kMaxMovers> at{};
+        const std::size_t n = std::min(scene_.diffuse.colliders.size(), at.size());
+        for (std::size_t c = 0; c < n; ++c)
+            at[c] = diffuse_collider_position(scene_.diffuse.colliders[c],
+                                              double(slots_[slot].frame + 1) * scene_.dt);
+        renderer_->set_mover_offsets(std::span(at.data(), n));
+    }
     const std::int64_t gl_begin = config_.trace ? config_.trace->now_ns() : 0;
     renderer_->render(view);
     if (config_.trace) trace_render_parts(static_cast<std::uint32_t>(frame_index), gl_begin);

@@ -113,7 +113,7 @@ class FramePipeline {
     FrameRecord pending_;  // extraction figures of the frame in flight
     std::uint16_t trace_render_ = 0, trace_png_ = 0, trace_video_ = 0;
     // The render's parts (RenderTimings order) and the screen-space pass's (ScreenFluidTimings order).
-    std::array<std::uint16_t, 7> trace_parts_{};
+    std::array<std::uint16_t, 8> trace_parts_{};
     std::array<std::uint16_t, 6> trace_screen_parts_{};
 };
 

@@ -18,6 +18,10 @@ constexpr std::size_t kSimChunk = 4096;
 SceneSimulation::SceneSimulation(const SceneDesc& scene, InputSource inputs)
     : scene_(scene), inputs_(std::move(inputs)) {
     validate_scene(scene_);
+    if (scene_.simulation == SimulationKind::kDiffuse) {
+        diffuse_ = std::make_unique<DiffuseSimulation>(scene_, particles_);
+        return;
+    }
     if (scene_.simulation == SimulationKind::kStreams) {
         stream_ = std::make_unique<StreamSimulation>(scene_);
         particles_.reserve(scene_.max_particles);
@@ -33,6 +37,10 @@ SceneSimulation::~SceneSimulation() = default;
 void SceneSimulation::begin_frame() {
     last_frame_ = next_frame_;
     last_inputs_ = inputs_ ? inputs_(last_frame_) : scripted_inputs(scene_, last_frame_);
+    if (diffuse_) {
+        diffuse_->begin_frame(particles_, last_frame_, last_inputs_.container_offset);
+        return;
+    }
     if (sph_) {
         sph_->set_container_offset(last_inputs_.container_offset);
         substeps_ = sph_->begin_frame(particles_, last_frame_);
@@ -43,7 +51,8 @@ void SceneSimulation::begin_frame() {
 }
 
 void SceneSimulation::end_frame() {
-    if (sph_) {
+    if (diffuse_) {
+    } else if (sph_) {
         sph_->end_frame(particles_);
     } else {
         stream_->end_frame(particles_);
@@ -66,7 +75,22 @@ FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,
     const auto begin = graph.serial(
         "simulate.begin", [this] { begin_frame(); }, after);
     FrameGraph::JobId body = 0;
-    if (sph_) {
+    if (diffuse_) {
+        DiffuseSimulation& d = *diffuse_;
+        const auto update = graph.parallel(
+            "diffuse.update", [this] { return diffuse_->update_blocks(particles_); },
+            [this](std::size_t b) { diffuse_->update_block(b, particles_); }, {begin});
+        const auto compact =
+            graph.serial("diffuse.compact", [this] { diffuse_->compact(particles_); }, {update});
+        const auto count = graph.parallel(
+            "diffuse.emit_count", [&d] { return d.emit_blocks(); },
+            [this](std::size_t b) { diffuse_->emit_count_block(b, particles_); }, {compact});
+        const auto offsets =
+            graph.serial("diffuse.emit_offsets", [this] { diffuse_->emit_offsets(particles_); }, {count});
+        body = graph.parallel(
+            "diffuse.emit", [&d] { return d.emit_blocks(); },
+            [this](std::size_t b) { diffuse_->emit_block(b, particles_); }, {offsets});
+    } else if (sph_) {
         body = graph.serial("simulate.sph",
                             [this, &graph] {
                                 sph_substeps([this, &graph](std::size_t p, std::size_t n, const auto& item) {
@@ -91,7 +115,15 @@ FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,
 void SceneSimulation::step_serial(int frames) {
     for (int i = 0; i < frames; ++i) {
         begin_frame();
-        if (sph_) {
+        if (diffuse_) {
+            for (std::size_t b = 0; b < diffuse_->update_blocks(particles_); ++b)
+                diffuse_->update_block(b, particles_);
+            diffuse_->compact(particles_);
+            for (std::size_t b = 0; b < diffuse_->emit_blocks(); ++b)
+                diffuse_->emit_count_block(b, particles_);
+            diffuse_->emit_offsets(particles_);
+            for (std::size_t b = 0; b < diffuse_->emit_blocks(); ++b) diffuse_->emit_block(b, particles_);
+        } else if (sph_) {
             sph_substeps([](std::size_t, std::size_t n, const auto& item) {
                 for (std::size_t c = 0; c < n; ++c) item(c);
             });

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "runtime/lib/frame_graph.h"
+#include "systems/diffuse/diffuse_simulation.h"
 #include "systems/particles/particle_set.h"
 #include "systems/render/frame_view.h"
 #include "systems/scenes/frame_inputs.h"
@@ -28,7 +29,9 @@ class SceneSimulation {
 
     // Adds the simulation's jobs after `after`; returns the last. Streams: simulate.begin ->
     // simulate.integrate* -> simulate.end. SPH: simulate.begin -> simulate.sph (its substeps, each running
-    // the nested jobs sph.grid_count*, ..., sph.integrate*) -> simulate.end. Each run of the graph
+    // the nested jobs sph.grid_count*, ..., sph.integrate*) -> simulate.end. Diffuse: simulate.begin ->
+    // diffuse.update* -> diffuse.compact -> diffuse.emit_count* -> diffuse.emit_offsets -> diffuse.emit*
+    // -> simulate.end. Each run of the graph
     // simulates frame next_frame() and then advances it.
     FrameGraph::JobId add_jobs(FrameGraph& graph, std::initializer_list<FrameGraph::JobId> after = {});
     // Simulates `frames` frames serially (warm-up; tools).
@@ -40,6 +43,8 @@ class SceneSimulation {
     std::uint64_t last_frame() const { return last_frame_; }
     const FrameInputs& last_inputs() const { return last_inputs_; }
     HeightFieldView pool_view() const { return stream_ ? stream_->pool_view() : HeightFieldView{}; }
+    // Diffuse scenes: the object (null otherwise).
+    const DiffuseSimulation* diffuse() const { return diffuse_.get(); }
     // SPH: substeps of the last frame (0 for streams).
     int last_substeps() const { return substeps_; }
     const SceneDesc& scene() const { return scene_; }
@@ -55,6 +60,7 @@ class SceneSimulation {
     ParticleSet particles_;
     std::unique_ptr<StreamSimulation> stream_;  // one of the two
     std::unique_ptr<SphSimulation> sph_;
+    std::unique_ptr<DiffuseSimulation> diffuse_;
     int substeps_ = 0;
     std::vector<FrameGraph::JobId> sph_phase_jobs_;
     std::uint64_t next_frame_ = 0, last_frame_ = 0;

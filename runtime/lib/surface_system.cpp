@@ -3,8 +3,10 @@
 #include <stdexcept>
 
 #include "runtime/lib/scan_surface.h"
+#include "runtime/lib/scene_simulation.h"
 #include "runtime/lib/screen_surface.h"
 #include "runtime/lib/slices_surface.h"
+#include "runtime/lib/sprites_surface.h"
 
 namespace rivulet {
 
@@ -12,7 +14,9 @@ SurfaceMethod parse_surface_method(const std::string& name) {
     if (name == "scan") return SurfaceMethod::kScan;
     if (name == "slices") return SurfaceMethod::kSlices;
     if (name == "screen") return SurfaceMethod::kScreen;
-    throw std::invalid_argument("unknown surface method '" + name + "': use 'scan', 'slices' or 'screen'");
+    if (name == "sprites") return SurfaceMethod::kSprites;
+    throw std::invalid_argument("unknown surface method '" + name +
+                                "': use 'scan', 'slices', 'screen' or (diffuse scenes) 'sprites'");
 }
 
 const char* surface_method_name(SurfaceMethod m) {
@@ -23,12 +27,20 @@ const char* surface_method_name(SurfaceMethod m) {
             return "slices";
         case SurfaceMethod::kScreen:
             return "screen";
+        case SurfaceMethod::kSprites:
+            return "sprites";
     }
     return "?";
 }
 
 std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, const SceneDesc& scene,
-                                                   std::size_t threads) {
+                                                   std::size_t threads, const SceneSimulation* sim) {
+    const bool diffuse = scene.simulation == SimulationKind::kDiffuse;
+    if (diffuse != (config.method == SurfaceMethod::kSprites))
+        throw std::invalid_argument(
+            diffuse ? "scene '" + scene.name + "' is a diffuse object: it is drawn with --method sprites"
+                    : std::string("--method sprites draws diffuse-object scenes only (ghost, dissolve, fire, "
+                                  "bunny, or a scene file with \"simulation\": \"diffuse\")"));
     switch (config.method) {
         case SurfaceMethod::kScan: {
             ScanSettings s = config.scan;
@@ -44,6 +56,11 @@ std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, 
         }
         case SurfaceMethod::kScreen:
             return std::make_unique<ScreenSurface>(config.screen, scene.max_particles, scene.particle_radius);
+        case SurfaceMethod::kSprites:
+            if (!sim || !sim->diffuse())
+                throw std::invalid_argument("sprites need the scene's diffuse simulation");
+            return std::make_unique<SpritesSurface>(
+                scene, [sim] { return sim->diffuse()->sprites(sim->particles()); });
     }
     throw std::invalid_argument("unknown surface method");
 }

@@ -21,8 +21,9 @@ namespace rivulet {
 
 class Renderer;
 
-enum class SurfaceMethod { kScan, kSlices, kScreen };
-// "scan", "slices" or "screen"; throws std::invalid_argument naming them otherwise.
+// kSprites draws a diffuse object's particles (seed 001) and is the only method of diffuse scenes.
+enum class SurfaceMethod { kScan, kSlices, kScreen, kSprites };
+// "scan", "slices", "screen" or "sprites"; throws std::invalid_argument naming them otherwise.
 SurfaceMethod parse_surface_method(const std::string& name);
 const char* surface_method_name(SurfaceMethod m);
 
@@ -61,8 +62,12 @@ struct SurfaceConfig {
     ScreenFluidSettings screen;
 };
 
-// Sized for the scene's max_particles and `threads` workers; throws std::invalid_argument on bad settings.
+class SceneSimulation;
+
+// Sized for the scene's max_particles and `threads` workers; throws std::invalid_argument on bad settings,
+// and when the method does not fit the scene: a diffuse scene is drawn with sprites, and sprites draw
+// only a diffuse scene (`sim` then names its simulation, which the sprites read each frame).
 std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, const SceneDesc& scene,
-                                                   std::size_t threads);
+                                                   std::size_t threads, const SceneSimulation* sim = nullptr);
 
 }  // namespace rivulet

@@ -5,6 +5,7 @@
 #include <span>
 
 #include "jobs/cylinder_layout.h"
+#include "jobs/diffuse_particles.h"
 
 namespace rivulet {
 
@@ -36,6 +37,12 @@ struct ParticleSpritesView {
     std::size_t size() const { return x.size(); }
 };
 
+// A frame's diffuse-object particles, already sorted. `additive`: emissive blending (fire), order-free.
+struct DiffuseSpritesView {
+    std::span<const DiffuseSprite> sprites;
+    bool additive = false;
+};
+
 struct FrameView {
     CylinderFrameView cylinders;
     TriangleMeshView mesh;
@@ -46,6 +53,7 @@ struct FrameView {
     // part of its depth or thickness); empty unless the method splits spray off.
     ParticleSpritesView spray;
     HeightFieldView pool;
+    DiffuseSpritesView diffuse;
 };
 
 }  // namespace rivulet

@@ -19,6 +19,7 @@
 #include "systems/render/scene_geometry.h"
 #include "systems/render/shaders.h"
 #include "systems/render/shadow_map.h"
+#include "systems/render/sprite_pass.h"
 #include "systems/render/water_backdrop.h"
 
 namespace rivulet {
@@ -67,6 +68,8 @@ struct Renderer::Impl {
     GLuint static_vbo = 0, static_ibo = 0, static_vao = 0;
     IndexRange ground, ground_far, solids, tank_frame, glass_back, glass_front;
     Vec3f tank_offset;
+    std::vector<IndexRange> movers;
+    std::array<Vec3f, kMaxMovers> mover_offsets{};
     // SPH scenes: the fluid is clipped to the tank's glass box (at tank_offset). Surfaces reach past the
     // particles (scan conversion's round cylinders most of all), and a tank drawn around them must not
     // show water outside its walls.
@@ -95,6 +98,7 @@ struct Renderer::Impl {
     GLuint sphere_point_vao = 0;
 
     std::unique_ptr<ScreenFluidPass> screen;
+    std::unique_ptr<SpritePass> diffuse;
     CameraDesc camera_desc;  // of the scene, for passes set up after it
     WaterLook water;
     Vec3f light{0, 1, 0};
@@ -217,6 +221,7 @@ struct Renderer::Impl {
         light = key_light(camera);
         camera_desc = camera;
         if (screen) screen->set_camera(camera, light);
+        if (diffuse) diffuse->set_camera(camera);
         for (const LitProgram& p : lit) {
             glProgramUniformMatrix4fv(p.id, p.view_proj, 1, GL_FALSE, vp.m);
             glProgramUniform3f(p.id, p.eye, b.eye.x, b.eye.y, b.eye.z);
@@ -290,6 +295,8 @@ struct Renderer::Impl {
         buffer_data(static_vbo, g.vertices.size() * sizeof(float), g.vertices.data(), GL_STATIC_DRAW);
         buffer_data(static_ibo, g.indices.size() * sizeof(std::uint32_t), g.indices.data(), GL_STATIC_DRAW);
         ground = g.ground, ground_far = g.ground_far, solids = g.solids, tank_frame = g.tank_frame;
+        movers = g.movers;
+        movers.resize(std::min(movers.size(), mover_offsets.size()));
         glass_back = g.glass_back, glass_front = g.glass_front;
         tank_offset = {};
         clip_fluid = scene.simulation == SimulationKind::kSph;
@@ -347,6 +354,14 @@ struct Renderer::Impl {
         screen->set_camera(camera_desc, light);
         screen->set_water(water);
         screen->set_environment(environment.texture());
+    }
+
+    void set_diffuse_sprites(std::uint32_t max_sprites) {
+        if (diffuse && diffuse->max_sprites() == max_sprites) return;
+        context.make_current();
+        diffuse.reset();  // its buffer goes before the new one is made
+        diffuse = std::make_unique<SpritePass>(max_sprites, context.width(), context.height());
+        diffuse->set_camera(camera_desc);
     }
 
     // --- this frame's data into GL buffers, once for both passes ---
@@ -436,6 +451,15 @@ struct Renderer::Impl {
     }
 
     // The tank moves with the container: its vertices read the offset as the constant of attribute 2.
+    void draw_movers() {
+        for (std::size_t i = 0; i < movers.size(); ++i) {
+            if (movers[i].count == 0) continue;
+            glVertexAttrib3f(2, mover_offsets[i].x, mover_offsets[i].y, mover_offsets[i].z);
+            draw_range(movers[i]);
+        }
+        glVertexAttrib3f(2, 0, 0, 0);
+    }
+
     void draw_tank_range(IndexRange r) {
         if (r.count == 0) return;
         glVertexAttrib3f(2, tank_offset.x, tank_offset.y, tank_offset.z);
@@ -483,6 +507,7 @@ struct Renderer::Impl {
         glProgramUniform1f(shadow.id, shadow.scale, 1.0f);
         glProgramUniform1i(shadow.id, shadow.water, 0);
         draw_range(solids);
+        draw_movers();
         draw_tank_range(tank_frame);
         glProgramUniform1i(shadow.id, shadow.water, 1);
         draw_fluid(shadow.id, shadow.scale, shadow.clip, false);
@@ -550,6 +575,7 @@ struct Renderer::Impl {
         glProgramUniform3f(solid.id, solid.albedo, 0.60f, 0.60f, 0.62f);
         glProgramUniform1f(solid.id, solid.shine, 0.0f);
         draw_range(solids);
+        draw_movers();
         // Dark anodised metal, so the frame reads as a frame against the pale floor and water.
         glProgramUniform3f(solid.id, solid.albedo, 0.24f, 0.25f, 0.27f);
         glProgramUniform1f(solid.id, solid.shine, 0.25f);
@@ -608,7 +634,8 @@ struct Renderer::Impl {
         if (!time_passes) return;
         glFinish();
         const auto now = std::chrono::steady_clock::now();
-        if (slot) *slot = std::chrono::duration<double, std::milli>(now - mark_time).count();
+        // Added, not set: the front glass and the final wait are one part with the diffuse pass between.
+        if (slot) *slot += std::chrono::duration<double, std::milli>(now - mark_time).count();
         mark_time = now;
     }
 
@@ -638,6 +665,13 @@ struct Renderer::Impl {
             mark(&timings.screen);
         }
         draw_glass(glass_front);
+        // Last, over everything the scene drew: translucent sprites that write no depth.
+        if (!frame.diffuse.sprites.empty()) {
+            if (!diffuse) bad_frame("diffuse sprites given before set_diffuse_sprites");
+            mark(&timings.finish);
+            diffuse->draw(frame.diffuse);
+            mark(&timings.diffuse);
+        }
         glBindVertexArray(0);
         glFinish();
         mark(&timings.finish);
@@ -660,12 +694,21 @@ void Renderer::set_container_offset(Vec3f offset) {
     impl_->tank_offset = offset;
 }
 
+void Renderer::set_mover_offsets(std::span<const Vec3f> centres) {
+    const std::size_t n = std::min(centres.size(), impl_->mover_offsets.size());
+    std::copy_n(centres.begin(), n, impl_->mover_offsets.begin());
+}
+
 void Renderer::set_cylinder_pool(const CylinderLayout& layout, std::uint32_t max_cylinders) {
     impl_->set_cylinder_pool(layout, max_cylinders);
 }
 
 void Renderer::set_screen_fluid(const ScreenFluidSettings& settings) {
     impl_->set_screen_fluid(settings);
+}
+
+void Renderer::set_diffuse_sprites(std::uint32_t max_sprites) {
+    impl_->set_diffuse_sprites(max_sprites);
 }
 
 void Renderer::render(const FrameView& frame) {

@@ -15,6 +15,9 @@
 
 namespace rivulet {
 
+// The most moving colliders a scene may have (DiffuseDesc::colliders).
+inline constexpr std::size_t kMaxMovers = 8;
+
 struct RenderSettings {
     int width = 1280;
     int height = 720;
@@ -24,9 +27,10 @@ struct RenderSettings {
 // each; else zeros). `scene`: ground, solids, sky and the tank's back glass; `water_thickness`: the scene
 // copy and the mesh methods' thickness; `water`: the pool's and the meshes' lit water; `screen`: the
 // screen-space fluid pass (its own parts: ScreenFluidPass::timings); `finish`: the front glass and the
-// wait for the picture.
+// wait for the picture; `diffuse`: the diffuse objects' sprites, drawn between those two.
 struct RenderTimings {
     double upload = 0, shadow = 0, scene = 0, water_thickness = 0, water = 0, screen = 0, finish = 0;
+    double diffuse = 0;
 };
 
 class Renderer {
@@ -44,11 +48,16 @@ class Renderer {
     // Where the SPH tank is drawn, from its rest pose (FrameInputs::container_offset): call before
     // render() in scenes whose container moves. Until called the tank stays at rest.
     void set_container_offset(Vec3f offset);
+    // Where a diffuse scene's colliders are this frame, in the scene's order (at most kMaxMovers).
+    void set_mover_offsets(std::span<const Vec3f> centres);
     // Builds the shared cylinder index buffer (sent to GL once) and a vertex buffer for `max_cylinders`.
     void set_cylinder_pool(const CylinderLayout& layout, std::uint32_t max_cylinders);
 
     // Sets up the screen-space fluid pass that draws a frame's sprites (once per run).
     void set_screen_fluid(const ScreenFluidSettings& settings);
+    // Sets up the pass that draws frames' diffuse-object sprites (FrameView::diffuse), with room for
+    // `max_sprites` a frame. Once per run; a later call with a different size replaces it.
+    void set_diffuse_sprites(std::uint32_t max_sprites);
 
     // Uploads only the changed ranges of `frame` (rings [vmin, vmax] per group), draws, and finishes.
     void render(const FrameView& frame);

@@ -169,6 +169,13 @@ StaticGeometry build_static_geometry(const SceneDesc& scene, GroundRect shadowed
     for (const BoxCollider& b : scene.boxes) add_box(g, b.min, b.max);
     if (scene.pool.enabled) add_pool_rim(g, scene);
     g.solids = range_since(solids);
+    if (scene.simulation == SimulationKind::kDiffuse)
+        for (const DiffuseCollider& c : scene.diffuse.colliders) {
+            const auto first = static_cast<std::uint32_t>(g.indices.size());
+            if (c.shape == "sphere") add_sphere(g, {{}, c.radius});
+            if (c.shape == "box") add_box(g, Vec3f{} - c.half_extents, c.half_extents);
+            g.movers.push_back(range_since(first));
+        }
     if (scene.simulation == SimulationKind::kSph) {
         const auto frame = static_cast<std::uint32_t>(g.indices.size());
         add_tank_frame(g, tank_glass_box(scene), tank_frame_width(scene), tank_on_ground(scene));

@@ -27,6 +27,9 @@ struct StaticGeometry {
     IndexRange tank_frame;   // the tank's twelve edges as beams, outside the glass
     IndexRange glass_back;   // tank walls seen from inside (behind the fluid): drawn before the fluid
     IndexRange glass_front;  // tank walls seen from outside (in front of it): drawn over it, last
+    // A diffuse scene's colliders (sphere or box; mesh colliders are not drawn), each centred on the
+    // origin: the renderer draws it at the collider's position of the frame.
+    std::vector<IndexRange> movers;
 };
 
 // The tank's glass walls enclose this box: the container widened by a particle radius, since the

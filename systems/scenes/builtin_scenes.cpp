@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "systems/diffuse/diffuse_scenes.h"
 #include "systems/scenes/scene.h"
 #include "systems/sim/sph_scenes.h"
 
@@ -15,8 +16,8 @@ namespace rivulet {
 
 namespace {
 
-constexpr std::array<std::string_view, 6> kNames = {"fountain", "faucet", "hose",
-                                                    "dambreak", "drop",   "slosh"};
+constexpr std::array<std::string_view, 10> kNames = {"fountain", "faucet", "hose",     "dambreak", "drop",
+                                                     "slosh",    "ghost",  "dissolve", "fire",     "bunny"};
 
 constexpr float deg(float degrees) {
     return degrees * std::numbers::pi_v<float> / 180.0f;
@@ -178,6 +179,8 @@ SceneDesc make_builtin_scene(std::string_view name) {
     if (name == "dambreak") return sph_scene("dambreak", make_dambreak());
     if (name == "drop") return sph_scene("drop", make_drop());
     if (name == "slosh") return sph_scene("slosh", make_slosh());
+    for (std::string_view n : diffuse_scene_names())
+        if (name == n) return make_diffuse_scene(name);
     std::string known;
     for (std::string_view n : kNames) known += (known.empty() ? "" : ", ") + std::string(n);
     throw std::invalid_argument("unknown scene '" + std::string(name) + "'; built-in scenes: " + known);

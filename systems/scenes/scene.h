@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "jobs/vec3.h"
+#include "systems/diffuse/diffuse_desc.h"
 #include "systems/scenes/colliders.h"
 #include "systems/scenes/scene_look.h"
 #include "systems/sim/sph_desc.h"
@@ -52,9 +53,10 @@ struct ContainerMotion {
     float frequency = 0;  // Hz; 0 = still
 };
 
-// Which simulation produces the particles: ballistic streams with a height-field pool (seed 000 §3), or
-// SPH fluid in a tank (seed 002 §III).
-enum class SimulationKind { kStreams, kSph };
+// Which simulation produces the particles: ballistic streams with a height-field pool (seed 000 §3), SPH
+// fluid in a tank (seed 002 §III), or a diffuse object: particles living in a voxelized mesh (seed 001),
+// drawn as sprites rather than as a fluid surface.
+enum class SimulationKind { kStreams, kSph, kDiffuse };
 
 struct SceneDesc {
     std::string name;
@@ -79,8 +81,9 @@ struct SceneDesc {
     PoolDesc pool;
     float v_min = 0, v_max = 3;  // extent of the cylinders along +y (scan conversion domain)
     CameraDesc camera;
-    ContainerMotion container_motion;
-    SceneLook look;  // water colour and absorption, environment
+    ContainerMotion container_motion;  // diffuse scenes: the object's motion
+    DiffuseDesc diffuse;               // diffuse scenes: the object, its voxels and colliders
+    SceneLook look;                    // water colour and absorption, environment
 };
 
 std::span<const std::string_view> builtin_scene_names();

@@ -77,18 +77,50 @@ void members(SceneLook& l, F&& f) {
     f("environment", l.environment.faces);
 }
 
+template <class F>
+void members(VoxelAttributesDesc& a, F&& f) {
+    f("max_density", a.max_density), f("fill_time", a.fill_time), f("color", a.color), f("alpha", a.alpha);
+    f("size", a.size), f("fade_color", a.fade_color), f("fade_alpha", a.fade_alpha);
+    f("fade_size", a.fade_size), f("lifetime", a.lifetime), f("interpolation_time", a.interpolation_time);
+    f("drag", a.drag), f("jitter", a.jitter), f("force", a.force), f("force_vector", a.force_vector);
+    f("force_rate", a.force_rate), f("force_pull", a.force_pull), f("about_region", a.about_region);
+}
+template <class F>
+void members(DiffuseRegion& r, F&& f) {
+    f("shape", r.shape), f("min", r.min), f("max", r.max), f("center", r.center), f("radius", r.radius);
+    f("attributes", r.attributes);
+}
+template <class F>
+void members(DiffuseCollider& c, F&& f) {
+    f("shape", c.shape), f("radius", c.radius), f("half_extents", c.half_extents), f("mesh", c.mesh);
+    f("from", c.from), f("to", c.to), f("period", c.period);
+}
+template <class F>
+void members(DissolveDesc& d, F&& f) {
+    f("start", d.start), f("wind", d.wind), f("front_speed", d.front_speed);
+}
+template <class F>
+void members(DiffuseDesc& d, F&& f) {
+    f("mesh", d.mesh), f("scale", d.scale), f("position", d.position), f("resolution", d.resolution);
+    f("defaults", d.defaults), f("regions", d.regions), f("colliders", d.colliders),
+        f("dissolve", d.dissolve);
+    f("additive", d.additive);
+}
+
 // The simulation kind by name.
 void read(const json& j, SimulationKind& out, const std::string& where) {
     if (j == "streams") {
         out = SimulationKind::kStreams;
     } else if (j == "sph") {
         out = SimulationKind::kSph;
+    } else if (j == "diffuse") {
+        out = SimulationKind::kDiffuse;
     } else {
-        fail(where, "expected \"streams\" or \"sph\"");
+        fail(where, "expected \"streams\", \"sph\" or \"diffuse\"");
     }
 }
 json write(SimulationKind k) {
-    return k == SimulationKind::kStreams ? "streams" : "sph";
+    return k == SimulationKind::kStreams ? "streams" : k == SimulationKind::kSph ? "sph" : "diffuse";
 }
 
 template <class F>
@@ -99,7 +131,8 @@ void members(SceneDesc& s, F&& f) {
     f("lifetime", s.lifetime), f("gravity", s.gravity), f("ground_y", s.ground_y);
     f("restitution", s.restitution), f("friction", s.friction), f("emitters", s.emitters);
     f("spheres", s.spheres), f("boxes", s.boxes), f("pool", s.pool), f("v_min", s.v_min), f("v_max", s.v_max);
-    f("camera", s.camera), f("container_motion", s.container_motion), f("look", s.look);
+    f("camera", s.camera), f("container_motion", s.container_motion), f("diffuse", s.diffuse);
+    f("look", s.look);
 }
 
 SceneDesc scene_from_json(const json& doc, const std::string& origin) {
@@ -138,11 +171,27 @@ void resolve_environment(SceneDesc& scene, const std::string& path) {
     }
 }
 
+// A diffuse object's mesh files, like the face images, are named relative to the scene file; the
+// built-in meshes go by name.
+void resolve_meshes(SceneDesc& scene, const std::string& path) {
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    const auto resolve = [&](std::string& file) {
+        for (const char* builtin : {"ghost", "box", "sphere", "torus", "bunny"})
+            if (file == builtin) return;
+        if (std::filesystem::path(file).is_relative()) file = (dir / file).lexically_normal().string();
+    };
+    if (scene.simulation != SimulationKind::kDiffuse) return;
+    resolve(scene.diffuse.mesh);
+    for (DiffuseCollider& c : scene.diffuse.colliders)
+        if (c.shape == "mesh") resolve(c.mesh);
+}
+
 }  // namespace
 
 SceneDesc load_scene_file(const std::string& path) {
     SceneDesc scene = scene_from_json(io::read_json_file(path, io::kMaxSceneFileBytes, "scene files"), path);
     resolve_environment(scene, path);
+    resolve_meshes(scene, path);
     return scene;
 }
 

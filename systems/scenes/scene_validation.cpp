@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "systems/diffuse/voxel_object.h"
 #include "systems/io/text_parse.h"
 #include "systems/scenes/scene_limits.h"
 #include "systems/sim/sph_scenes.h"
@@ -83,6 +84,7 @@ void validate_scene(const SceneDesc& s, const std::string& origin) {
               std::to_string(faces.size()));
     for (std::size_t i = 0; i < faces.size(); ++i)
         check(!faces[i].empty(), "look.environment[" + std::to_string(i) + "] is an empty path");
+    if (s.simulation == SimulationKind::kDiffuse) validate_diffuse_desc(s.diffuse, where);
     if (s.simulation == SimulationKind::kSph)
         if (const std::string problem = sph_desc_problem(sph_desc_of(s), s.max_particles); !problem.empty())
             check(false, problem);

@@ -1,0 +1,89 @@
+#pragma once
+// Back-to-front order of particles for alpha-blended point sprites ("Rendering diffuse objects using
+// particle systems inside voxelized surface geometry", Juckel & Beckhaus, §4.4: transparent particles
+// must be drawn from back to front). The paper sorts with a quick sort; a stable LSD radix sort over
+// quantized view depth does the same in linear time and splits into parallel blocks.
+//
+// Keys: depth d = dot(p - origin, direction), quantized to 22 bits over [depth_min, depth_max] (clamped)
+// and inverted, so ascending key = farthest first. Two passes of 11 bits, each:
+//   radix_histogram_block(pass, b)  for every block b, in parallel
+//   radix_prefix(pass)              once, serial
+//   radix_scatter_block(pass, b)    for every block b, in parallel
+// Each block writes its items of digit d after those of the blocks before it, so the result is the same
+// whatever order or thread the blocks run on. Ties keep particle index order.
+//
+// Buffers, all sized by the caller (nothing here allocates):
+//   keys, keys_tmp, order, order_tmp: n each; histograms: depth_sort_blocks(n, block_size) * kRadixDigits.
+// After pass 1, `order` holds the particle indices back to front; `keys` still holds each particle's own
+// key (keys[i] belongs to particle i), and the *_tmp spans hold pass 0's intermediate order.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "jobs/vec3.h"
+
+namespace rivulet {
+
+inline constexpr std::uint32_t kDepthKeyBits = 22;
+inline constexpr std::uint32_t kRadixBits = 11;
+inline constexpr std::uint32_t kRadixDigits = 1u << kRadixBits;  // histogram slots per block
+inline constexpr std::uint32_t kRadixPasses = kDepthKeyBits / kRadixBits;
+inline constexpr std::uint32_t kDepthKeyMax = (1u << kDepthKeyBits) - 1u;
+// Large enough that the per-block histograms stay small next to the data (1M particles: 64 blocks,
+// 512 KiB), small enough to give two threads plenty of blocks to balance.
+inline constexpr std::uint32_t kDepthSortBlockSize = 16384;
+
+// Depth along the view to key. Depths outside [min, max] clamp to its ends; NaN counts as depth_min
+// (drawn last), so every input gives a defined key.
+struct DepthKeyMap {
+    Vec3f origin;
+    Vec3f direction;  // need not be unit length: depths are measured in its units
+    float depth_min = 0, depth_max = 1;
+
+    float depth(float x, float y, float z) const {
+        return (x - origin.x) * direction.x + (y - origin.y) * direction.y + (z - origin.z) * direction.z;
+    }
+    // Key steps per unit of depth; 0 when the range is empty (every key equal, order = index order).
+    float scale() const {
+        const float range = depth_max - depth_min;
+        return range > 0 ? static_cast<float>(kDepthKeyMax + 1u) / range : 0.0f;
+    }
+    std::uint32_t key_of_depth(float d, float scale) const {
+        const float s = (d - depth_min) * scale;
+        const float q =
+            s > 0.0f ? (s < static_cast<float>(kDepthKeyMax) ? s : static_cast<float>(kDepthKeyMax)) : 0.0f;
+        return kDepthKeyMax - static_cast<std::uint32_t>(q);
+    }
+    std::uint32_t key(float x, float y, float z) const { return key_of_depth(depth(x, y, z), scale()); }
+};
+
+struct DepthSortContext {
+    std::span<const float> x, y, z;  // particle positions, n each
+    DepthKeyMap map;
+    std::span<std::uint32_t> keys, keys_tmp;    // n each
+    std::span<std::uint32_t> order, order_tmp;  // n each; `order` is the result
+    // Block-major, kRadixDigits per block: counts after a histogram pass, write cursors after the prefix.
+    std::span<std::uint32_t> histograms;
+    std::uint32_t block_size = kDepthSortBlockSize;
+
+    // The particles sorted: keys holds one per particle (x, y, z may be empty when the caller made the keys).
+    std::size_t size() const { return keys.size(); }
+};
+
+// Number of blocks for n particles (0 for n = 0).
+std::size_t depth_sort_blocks(std::size_t n, std::uint32_t block_size = kDepthSortBlockSize);
+
+// Parallel over blocks: keys of block b's particles. Runs first.
+void depth_keys_block(const DepthSortContext& ctx, std::size_t block);
+// Parallel over blocks: counts of block b's digits for `pass` (0: low 11 bits, 1: high 11 bits).
+void radix_histogram_block(const DepthSortContext& ctx, std::uint32_t pass, std::size_t block);
+// Serial, after every block's histogram of `pass`: turns the counts into each block's write cursors.
+void radix_prefix(const DepthSortContext& ctx, std::uint32_t pass);
+// Parallel over blocks, after radix_prefix(pass): block b's items to their places. Pass 0 reads `keys`
+// (order implied: particle index) and writes keys_tmp/order_tmp; pass 1 reads those and writes `order`.
+void radix_scatter_block(const DepthSortContext& ctx, std::uint32_t pass, std::size_t block);
+
+// All kernels in order on the calling thread (tests, tools).
+void depth_sort_serial(const DepthSortContext& ctx);
+
+}  // namespace rivulet

@@ -1,0 +1,46 @@
+#pragma once
+// Emission of a diffuse object (Juckel & Beckhaus, "Rendering diffuse objects using particle systems
+// inside voxelized surface geometry", §4.3): every active voxel below its maximum density gets new
+// particles, which take their attributes from the voxel rather than from an emitter. In a fixed order:
+// per-block counts, a serial prefix, then each block writes its particles at its offset, so the particles
+// and their ids are the same whatever thread runs which block.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "jobs/diffuse_particles.h"
+#include "jobs/particle_spans.h"
+
+namespace rivulet {
+
+struct DiffuseEmitContext {
+    std::span<const std::uint32_t> inside;  // voxels inside the mesh, ascending
+    std::span<const std::uint16_t> material;
+    std::span<const std::uint32_t> voxel_rgba;
+    std::span<const VoxelMaterial> materials;
+    std::span<const std::uint8_t> blocked;
+    std::span<std::uint32_t> density;
+    DiffuseGrid grid;
+    Vec3f offset;           // the object's displacement (world = object space + offset)
+    Vec3f object_velocity;  // the object's motion, given to new particles as momentum (§5.1)
+    DissolveFront dissolve;
+    std::size_t block_size = 4096;
+    std::span<std::uint32_t> counts;   // per block: wanted, then (after the prefix) granted
+    std::span<std::uint32_t> offsets;  // per block
+    ParticleSpans particles;           // whole capacity
+    DiffuseAttributeSpans attributes;  // whole capacity
+    std::size_t first = 0;             // the live count: new particles go after it
+    std::uint32_t first_id = 0;
+    std::uint64_t seed = 0, frame = 0;
+};
+
+inline std::size_t diffuse_emit_blocks(std::size_t inside, std::size_t block_size) {
+    return (inside + block_size - 1) / block_size;
+}
+void diffuse_emit_count_block(std::size_t block, const DiffuseEmitContext& ctx);
+// Serial: offsets from the counts, granting blocks in order until the capacity is reached; returns the
+// number of particles the frame emits.
+std::size_t diffuse_emit_offsets(const DiffuseEmitContext& ctx);
+void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& ctx);
+
+}  // namespace rivulet

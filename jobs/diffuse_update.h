@@ -1,0 +1,70 @@
+#pragma once
+// One step of a diffuse object's particles (Juckel & Beckhaus, "Rendering diffuse objects using particle
+// systems inside voxelized surface geometry", §4.3, §5): each particle moves by the force of the voxel it
+// is in, bounces off the colliders it crosses, looks up its new voxel, and on entering one starts
+// interpolating towards that voxel's colour and size; outside the active voxels it fades by its last
+// voxel's fading attributes and dies when faded. A kernel is (block, context).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "jobs/diffuse_particles.h"
+#include "jobs/particle_spans.h"
+
+namespace rivulet {
+
+// A collider during this step: its offsets at the step's start and end (it moves in between), the world
+// box its surface sweeps, and its collision test in its own frame (a ColliderMesh behind `mesh`).
+struct DiffuseColliderStep {
+    const void* mesh = nullptr;
+    bool (*collide)(const void* mesh, Vec3f p0, Vec3f& p1, Vec3f& velocity, float restitution) = nullptr;
+    Vec3f offset0, offset1;
+    Vec3f swept_min, swept_max;
+};
+
+struct DiffuseUpdateContext {
+    ParticleSpans particles;
+    DiffuseAttributeSpans attributes;
+    DiffuseGrid grid;
+    Vec3f offset;  // the object's displacement this step (object space = world - offset)
+    std::span<const std::uint16_t> material;  // per voxel
+    std::span<const std::uint32_t> voxel_rgba;
+    std::span<const VoxelMaterial> materials;
+    std::span<const std::uint8_t> blocked;  // per voxel: non-zero while a collider overlaps it
+    std::span<std::uint32_t> density;       // per voxel, updated with atomic adds
+    std::span<const DiffuseColliderStep> colliders;
+    Vec3f accel;  // the scene's gravity or wind, everywhere
+    DissolveFront dissolve;
+    VoxelStep outside;  // no force, no drag: the step of particles outside the active voxels
+    float restitution = 0.3f;
+    float dt = 1.0f / 60.0f;
+    std::size_t block_size = 16384;
+    // Each block lists its particles that died this step, ascending: dead[b * block_size + k].
+    std::span<std::uint32_t> dead;
+    std::span<std::uint32_t> dead_count;  // per block
+};
+
+inline std::size_t diffuse_update_blocks(std::size_t particles, std::size_t block_size) {
+    return (particles + block_size - 1) / block_size;
+}
+
+void diffuse_update_block(std::size_t block, const DiffuseUpdateContext& ctx);
+
+// Fills the holes the dead leave with live particles from the end, in a fixed order (O(dead)); returns
+// the new count. `move(from, to)` copies every array of particle `from` to `to`.
+template <class Move>
+std::size_t fill_dead_from_end(std::size_t count, std::span<const std::uint32_t> dead_ascending,
+                               Move&& move) {
+    std::size_t lo = 0, hi = dead_ascending.size(), end = count;
+    while (lo < hi) {
+        if (dead_ascending[hi - 1] == end - 1) {
+            --hi, --end;
+            continue;
+        }
+        move(end - 1, dead_ascending[lo]);
+        ++lo, --end;
+    }
+    return end;
+}
+
+}  // namespace rivulet

@@ -1,0 +1,111 @@
+#include "runtime/lib/sprites_surface.h"
+
+#include <algorithm>
+
+#include "jobs/mesh_hash.h"
+#include "systems/render/renderer.h"
+
+namespace rivulet {
+namespace {
+
+// Far enough around the object's grid for the particles that drift out of it while they fade; beyond
+// it depths clamp (still drawn, in a tie).
+constexpr float kDepthMargin = 2.0f;
+
+}  // namespace
+
+SpritesSurface::SpritesSurface(const SceneDesc& scene, std::function<std::span<const DiffuseSprite>()> source)
+    : scene_(scene), source_(std::move(source)), max_particles_(scene.max_particles) {
+    for (Staged& s : staged_) s.sprites.reserve(max_particles_);
+    for (auto* a : {&keys_, &keys_tmp_, &order_, &order_tmp_}) a->reserve(max_particles_);
+    histograms_.reserve(std::max<std::size_t>(depth_sort_blocks(max_particles_), 1) * kRadixDigits);
+}
+
+DepthSortContext SpritesSurface::sort_context(std::size_t n) {
+    DepthSortContext ctx;
+    const Vec3f eye = scene_.camera.eye;
+    ctx.map.origin = eye;
+    ctx.map.direction = normalize(scene_.camera.target - eye);
+    // The depth range of a ball around the camera target that holds the object and its margin.
+    const float reach = length(scene_.camera.target - eye);
+    ctx.map.depth_min = std::max(0.0f, reach - kDepthMargin - 2.0f);
+    ctx.map.depth_max = reach + kDepthMargin + 2.0f;
+    ctx.keys = keys_.span(n), ctx.keys_tmp = keys_tmp_.span(n);
+    ctx.order = order_.span(n), ctx.order_tmp = order_tmp_.span(n);
+    ctx.histograms = histograms_.span(depth_sort_blocks(n) * kRadixDigits);
+    return ctx;
+}
+
+FrameGraph::JobId SpritesSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()>,
+                                           std::function<int()> slot, FrameGraph::JobId after) {
+    const bool sorted = !scene_.diffuse.additive;
+    const auto blocks = [this, sorted] { return sorted ? depth_sort_blocks(frame_.size()) : 0; };
+    const auto begin = graph.serial("sprites.begin",
+                                    [this, slot] {
+                                        frame_ = source_();
+                                        staged_[slot()].count = frame_.size();
+                                    },
+                                    {after});
+    // The keys straight from the packed sprites (depth_keys_block reads three position arrays).
+    FrameGraph::JobId last = graph.parallel(
+        "sprites.keys", blocks,
+        [this](std::size_t b) {
+            const DepthSortContext ctx = sort_context(frame_.size());
+            const float scale = ctx.map.scale();
+            const std::size_t end = std::min(frame_.size(), (b + 1) * std::size_t(ctx.block_size));
+            for (std::size_t i = b * ctx.block_size; i < end; ++i) {
+                const DiffuseSprite& q = frame_[i];
+                ctx.keys[i] = ctx.map.key_of_depth(ctx.map.depth(q.x, q.y, q.z), scale);
+            }
+        },
+        {begin});
+    for (std::uint32_t pass = 0; pass < kRadixPasses; ++pass) {
+        const std::string p = std::to_string(pass);
+        const auto hist = graph.parallel(
+            "sprites.histogram" + p, blocks,
+            [this, pass](std::size_t b) { radix_histogram_block(sort_context(frame_.size()), pass, b); },
+            {last});
+        const auto prefix = graph.serial("sprites.prefix" + p,
+                                         [this, pass, sorted] {
+                                             if (sorted) radix_prefix(sort_context(frame_.size()), pass);
+                                         },
+                                         {hist});
+        last = graph.parallel(
+            "sprites.scatter" + p, blocks,
+            [this, pass](std::size_t b) { radix_scatter_block(sort_context(frame_.size()), pass, b); },
+            {prefix});
+    }
+    return graph.parallel(
+        "sprites.stage", [this] { return (frame_.size() + kChunk - 1) / kChunk; },
+        [this, slot, sorted](std::size_t c) {
+            Staged& s = staged_[slot()];
+            const std::size_t end = std::min(frame_.size(), (c + 1) * kChunk);
+            DiffuseSprite* out = s.sprites.data();
+            const std::uint32_t* order = order_.data();
+            for (std::size_t k = c * kChunk; k < end; ++k) out[k] = frame_[sorted ? order[k] : k];
+        },
+        {last});
+}
+
+SurfaceStats SpritesSurface::stats(int slot) const {
+    SurfaceStats st;
+    st.isolated = static_cast<std::uint32_t>(staged_[slot].count);
+    return st;
+}
+
+std::uint64_t SpritesSurface::output_hash(int slot) const {
+    const Staged& s = staged_[slot];
+    return hash_bytes(s.sprites.data(), s.count * sizeof(DiffuseSprite));
+}
+
+void SpritesSurface::prepare_renderer(Renderer& renderer) const {
+    renderer.set_diffuse_sprites(static_cast<std::uint32_t>(max_particles_));
+}
+
+void SpritesSurface::fill_view(int slot, FrameView& view) const {
+    const Staged& s = staged_[slot];
+    view.diffuse.sprites = std::span<const DiffuseSprite>(s.sprites.data(), s.count);
+    view.diffuse.additive = scene_.diffuse.additive;
+}
+
+}  // namespace rivulet

@@ -1,0 +1,235 @@
+#include "systems/diffuse/diffuse_simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "systems/diffuse/collider_mesh.h"
+
+namespace rivulet {
+namespace {
+
+constexpr std::size_t kUpdateBlock = 16384;
+constexpr std::size_t kEmitBlock = 4096;
+
+bool collide_mesh(const void* mesh, Vec3f p0, Vec3f& p1, Vec3f& velocity, float restitution) {
+    return static_cast<const ColliderMesh*>(mesh)->collide(p0, p1, velocity, restitution);
+}
+
+std::unique_ptr<ColliderMesh> make_collider(const DiffuseCollider& c) {
+    if (c.shape == "sphere") return std::make_unique<ColliderMesh>(ColliderMesh::sphere(c.radius));
+    if (c.shape == "box") return std::make_unique<ColliderMesh>(ColliderMesh::box(c.half_extents));
+    return std::make_unique<ColliderMesh>(ColliderMesh::from_mesh(load_diffuse_mesh(c.mesh, 1, {})));
+}
+
+}  // namespace
+
+Vec3f diffuse_collider_position(const DiffuseCollider& c, double t) {
+    if (c.period <= 0) return c.from;
+    const double phase = 0.5 - 0.5 * std::cos(2 * std::numbers::pi * t / double(c.period));
+    return c.from + (c.to - c.from) * static_cast<float>(phase);
+}
+
+DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& particles) : scene_(scene) {
+    const DiffuseDesc& d = scene_.diffuse;
+    object_ = build_voxel_object(d, load_diffuse_mesh(d.mesh, d.scale, d.position), scene_.dt);
+    grid_ = {object_.shape.origin, object_.shape.cell, object_.shape.nx, object_.shape.ny, object_.shape.nz};
+    density_.assign(object_.shape.count(), 0);
+    blocked_.assign(object_.shape.count(), 0);
+    for (const DiffuseCollider& c : d.colliders) colliders_.push_back(make_collider(c));
+    steps_.resize(colliders_.size());
+    blocked_ranges_.assign(colliders_.size(), {0, -1, 0, -1, 0, -1});
+    const std::size_t cap = scene_.max_particles;
+    particles.reserve(cap);
+    for (auto* a : {&voxel_, &from_rgba_, &to_rgba_}) a->reserve(cap);
+    for (auto* a : {&from_size_, &to_size_, &elapsed_, &duration_}) a->reserve(cap);
+    sprite_.reserve(cap);
+    fading_.reserve(cap);
+    const std::size_t blocks = diffuse_update_blocks(cap, kUpdateBlock);
+    dead_.assign(blocks * kUpdateBlock, 0);
+    dead_count_.assign(blocks, 0);
+    dead_all_.reserve(cap);
+    emit_counts_.assign(diffuse_emit_blocks(object_.inside.size(), kEmitBlock), 0);
+    emit_offsets_.assign(emit_counts_.size(), 0);
+}
+
+DiffuseSimulation::~DiffuseSimulation() = default;
+
+DiffuseAttributeSpans DiffuseSimulation::attributes(std::size_t n) {
+    return {voxel_.span(n),   from_rgba_.span(n), to_rgba_.span(n), from_size_.span(n), to_size_.span(n),
+            elapsed_.span(n), duration_.span(n),  fading_.span(n),  sprite_.span(n)};
+}
+
+std::span<const DiffuseSprite> DiffuseSimulation::sprites(const ParticleSet& particles) const {
+    return sprite_.span(particles.size());
+}
+
+void DiffuseSimulation::begin_frame(ParticleSet&, std::uint64_t frame, Vec3f offset) {
+    frame_ = frame;
+    const float dt = scene_.dt;
+    prev_offset_ = first_frame_ ? offset : offset_;
+    offset_ = offset;
+    velocity_ = (offset_ - prev_offset_) * (1 / dt);
+    first_frame_ = false;
+    const double t0 = double(frame) * dt, t1 = double(frame + 1) * dt;
+    for (std::size_t c = 0; c < colliders_.size(); ++c) {
+        DiffuseColliderStep& s = steps_[c];
+        s.mesh = colliders_[c].get();
+        s.collide = collide_mesh;
+        s.offset0 = diffuse_collider_position(scene_.diffuse.colliders[c], t0);
+        s.offset1 = diffuse_collider_position(scene_.diffuse.colliders[c], t1);
+        const Vec3f lo = colliders_[c]->bounds_min(), hi = colliders_[c]->bounds_max();
+        s.swept_min = {std::min(s.offset0.x, s.offset1.x) + lo.x, std::min(s.offset0.y, s.offset1.y) + lo.y,
+                       std::min(s.offset0.z, s.offset1.z) + lo.z};
+        s.swept_max = {std::max(s.offset0.x, s.offset1.x) + hi.x, std::max(s.offset0.y, s.offset1.y) + hi.y,
+                       std::max(s.offset0.z, s.offset1.z) + hi.z};
+    }
+    block_voxels();
+    const DissolveDesc& w = scene_.diffuse.dissolve;
+    dissolve_ = {};
+    if (w.start >= 0 && t1 > w.start) {
+        dissolve_.direction = normalize(w.wind);
+        dissolve_.wind = w.wind;
+        // The front starts at the object's upwind corner of its grid.
+        float upwind = 3.0e38f;
+        for (int corner = 0; corner < 8; ++corner) {
+            const Vec3f c =
+                grid_.origin + Vec3f{corner & 1 ? float(grid_.nx) : 0, corner & 2 ? float(grid_.ny) : 0,
+                                     corner & 4 ? float(grid_.nz) : 0} *
+                                   grid_.cell;
+            upwind = std::min(upwind, dot(c, dissolve_.direction));
+        }
+        dissolve_.band = 8 * grid_.cell;
+        dissolve_.front = w.front_speed > 0 ? upwind + w.front_speed * float(t1 - w.start) : 3.0e38f;
+    }
+}
+
+// §5.2: a collider inside the object's box deactivates the voxels it overlaps, so no particle is born
+// inside it and those in them fade unless they leave.
+void DiffuseSimulation::block_voxels() {
+    for (const auto& r : blocked_ranges_)
+        for (int iz = r[4]; iz <= r[5]; ++iz)
+            for (int iy = r[2]; iy <= r[3]; ++iy)
+                for (int ix = r[0]; ix <= r[1]; ++ix) blocked_[object_.shape.index(ix, iy, iz)] = 0;
+    const float inv = 1 / grid_.cell;
+    for (std::size_t c = 0; c < colliders_.size(); ++c) {
+        // Object space of the step's end: where the particles look their voxels up.
+        const Vec3f at = steps_[c].offset1 - offset_;
+        const Vec3f lo = colliders_[c]->bounds_min() + at - grid_.origin;
+        const Vec3f hi = colliders_[c]->bounds_max() + at - grid_.origin;
+        auto& r = blocked_ranges_[c];
+        r = {std::max(0, int(std::floor(lo.x * inv))), std::min(grid_.nx - 1, int(std::floor(hi.x * inv))),
+             std::max(0, int(std::floor(lo.y * inv))), std::min(grid_.ny - 1, int(std::floor(hi.y * inv))),
+             std::max(0, int(std::floor(lo.z * inv))), std::min(grid_.nz - 1, int(std::floor(hi.z * inv)))};
+        for (int iz = r[4]; iz <= r[5]; ++iz)
+            for (int iy = r[2]; iy <= r[3]; ++iy)
+                for (int ix = r[0]; ix <= r[1]; ++ix) {
+                    const std::size_t v = object_.shape.index(ix, iy, iz);
+                    if (object_.material[v] == kNoMaterial) continue;
+                    const Vec3f vmin =
+                        grid_.origin + Vec3f{float(ix), float(iy), float(iz)} * grid_.cell - at;
+                    if (colliders_[c]->overlaps_box(vmin, vmin + Vec3f{1, 1, 1} * grid_.cell))
+                        blocked_[v] = 1;
+                }
+    }
+}
+
+DiffuseUpdateContext DiffuseSimulation::update_context(ParticleSet& particles) {
+    DiffuseUpdateContext ctx;
+    ctx.particles = particles.spans();
+    ctx.attributes = attributes(particles.size());
+    ctx.grid = grid_;
+    ctx.offset = offset_;
+    ctx.material = object_.material;
+    ctx.voxel_rgba = object_.rgba;
+    ctx.materials = object_.materials;
+    ctx.blocked = blocked_;
+    ctx.density = density_;
+    ctx.colliders = steps_;
+    ctx.accel = scene_.gravity;
+    ctx.dissolve = dissolve_;
+    ctx.outside = make_voxel_step(VoxelForce{}, 0, scene_.dt);
+    ctx.restitution = scene_.restitution;
+    ctx.dt = scene_.dt;
+    ctx.block_size = kUpdateBlock;
+    ctx.dead = dead_;
+    ctx.dead_count = dead_count_;
+    return ctx;
+}
+
+std::size_t DiffuseSimulation::update_blocks(const ParticleSet& particles) const {
+    return diffuse_update_blocks(particles.size(), kUpdateBlock);
+}
+
+void DiffuseSimulation::update_block(std::size_t block, ParticleSet& particles) {
+    diffuse_update_block(block, update_context(particles));
+}
+
+void DiffuseSimulation::compact(ParticleSet& particles) {
+    dead_all_.clear();
+    for (std::size_t b = 0; b < update_blocks(particles); ++b)
+        dead_all_.insert(dead_all_.end(), dead_.begin() + std::ptrdiff_t(b * kUpdateBlock),
+                         dead_.begin() + std::ptrdiff_t(b * kUpdateBlock + dead_count_[b]));
+    emit_first_ = particles.size();
+    if (dead_all_.empty()) return;
+    ParticleSpans p = particles.spans();
+    DiffuseAttributeSpans a = attributes(particles.size());
+    const std::size_t n =
+        fill_dead_from_end(particles.size(), dead_all_, [&](std::size_t from, std::size_t to) {
+            p.x[to] = p.x[from], p.y[to] = p.y[from], p.z[to] = p.z[from];
+            p.vx[to] = p.vx[from], p.vy[to] = p.vy[from], p.vz[to] = p.vz[from], p.id[to] = p.id[from];
+            a.voxel[to] = a.voxel[from], a.from_rgba[to] = a.from_rgba[from], a.to_rgba[to] = a.to_rgba[from];
+            a.from_size[to] = a.from_size[from], a.to_size[to] = a.to_size[from];
+            a.elapsed[to] = a.elapsed[from], a.duration[to] = a.duration[from], a.fading[to] = a.fading[from];
+            a.sprite[to] = a.sprite[from];
+        });
+    particles.resize(n);
+    emit_first_ = n;
+}
+
+DiffuseEmitContext DiffuseSimulation::emit_context(ParticleSet& particles) {
+    DiffuseEmitContext ctx;
+    ctx.inside = object_.inside;
+    ctx.material = object_.material;
+    ctx.voxel_rgba = object_.rgba;
+    ctx.materials = object_.materials;
+    ctx.blocked = blocked_;
+    ctx.density = density_;
+    ctx.grid = grid_;
+    ctx.offset = offset_;
+    ctx.object_velocity = velocity_;
+    ctx.dissolve = dissolve_;
+    ctx.block_size = kEmitBlock;
+    ctx.counts = emit_counts_;
+    ctx.offsets = emit_offsets_;
+    ctx.particles = particles.spans();
+    ctx.attributes = attributes(particles.size());
+    ctx.first = emit_first_;
+    ctx.first_id = next_id_;
+    ctx.seed = scene_.seed;
+    ctx.frame = frame_;
+    return ctx;
+}
+
+void DiffuseSimulation::emit_count_block(std::size_t block, ParticleSet& particles) {
+    diffuse_emit_count_block(block, emit_context(particles));
+}
+
+void DiffuseSimulation::emit_offsets(ParticleSet& particles) {
+    DiffuseEmitContext ctx = emit_context(particles);
+    // The offsets need the room left: the spans over the whole capacity.
+    particles.resize(particles.capacity());
+    ctx.particles = particles.spans();
+    const std::size_t total = diffuse_emit_offsets(ctx);
+    particles.resize(emit_first_ + total);
+    next_id_ += static_cast<std::uint32_t>(total);
+}
+
+void DiffuseSimulation::emit_block(std::size_t block, ParticleSet& particles) {
+    DiffuseEmitContext ctx = emit_context(particles);
+    ctx.first_id = next_id_ - static_cast<std::uint32_t>(particles.size() - emit_first_);
+    diffuse_emit_block(block, ctx);
+}
+
+}  // namespace rivulet

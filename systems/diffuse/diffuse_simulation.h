@@ -1,0 +1,88 @@
+#pragma once
+// A diffuse object alive across frames (Juckel & Beckhaus, "Rendering diffuse objects using particle
+// systems inside voxelized surface geometry"): its voxels, its particles' attributes beside the
+// ParticleSet, the density per voxel and the colliders. Each frame runs, in this order:
+//   begin_frame (serial: where the object and colliders are, which voxels colliders block)
+//   update_block for every update block (parallel)        -> diffuse.update
+//   compact (serial: the dead's places filled from the end) -> diffuse.compact
+//   emit_count_block for every emit block (parallel)       -> diffuse.emit_count
+//   emit_offsets (serial)                                  -> diffuse.emit_offsets
+//   emit_block for every emit block (parallel)             -> diffuse.emit
+// Everything is sized at construction; a frame allocates nothing.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "jobs/diffuse_emit.h"
+#include "jobs/diffuse_update.h"
+#include "systems/diffuse/voxel_object.h"
+#include "systems/particles/aligned_array.h"
+#include "systems/particles/particle_set.h"
+#include "systems/scenes/scene.h"
+
+namespace rivulet {
+
+class ColliderMesh;
+
+class DiffuseSimulation {
+  public:
+    // Loads and voxelizes the scene's mesh, builds the colliders; `particles` gets the capacity.
+    // Throws std::invalid_argument / std::runtime_error on a bad mesh or attributes.
+    DiffuseSimulation(const SceneDesc& scene, ParticleSet& particles);
+    ~DiffuseSimulation();
+
+    // `offset`: the object's displacement from its rest pose at the end of this frame (FrameInputs).
+    void begin_frame(ParticleSet& particles, std::uint64_t frame, Vec3f offset);
+    std::size_t update_blocks(const ParticleSet& particles) const;
+    void update_block(std::size_t block, ParticleSet& particles);
+    void compact(ParticleSet& particles);
+    std::size_t emit_blocks() const { return emit_counts_.size(); }
+    void emit_count_block(std::size_t block, ParticleSet& particles);
+    void emit_offsets(ParticleSet& particles);
+    void emit_block(std::size_t block, ParticleSet& particles);
+
+    // What the sprite pass draws of each particle, in particle order.
+    std::span<const DiffuseSprite> sprites(const ParticleSet& particles) const;
+    DiffuseAttributeSpans attributes(std::size_t n);
+    const VoxelObject& object() const { return object_; }
+    const DiffuseGrid& grid() const { return grid_; }
+    std::span<const std::uint32_t> density() const { return density_; }
+    std::span<const std::uint8_t> blocked() const { return blocked_; }
+    // World-space centre of collider c at the end of the last begun frame.
+    Vec3f collider_centre(std::size_t c) const { return steps_[c].offset1; }
+    std::size_t collider_count() const { return steps_.size(); }
+    const ColliderMesh& collider(std::size_t c) const { return *colliders_[c]; }
+    Vec3f object_offset() const { return offset_; }
+
+  private:
+    DiffuseUpdateContext update_context(ParticleSet& particles);
+    DiffuseEmitContext emit_context(ParticleSet& particles);
+    void block_voxels();
+
+    SceneDesc scene_;
+    VoxelObject object_;
+    DiffuseGrid grid_;
+    std::vector<std::uint32_t> density_;
+    std::vector<std::uint8_t> blocked_;
+    std::vector<std::unique_ptr<ColliderMesh>> colliders_;
+    std::vector<DiffuseColliderStep> steps_;
+    std::vector<std::array<int, 6>> blocked_ranges_;  // voxel box each collider blocked last frame
+    AlignedArray<std::uint32_t> voxel_, from_rgba_, to_rgba_;
+    AlignedArray<float> from_size_, to_size_, elapsed_, duration_;
+    AlignedArray<DiffuseSprite> sprite_;
+    AlignedArray<std::uint8_t> fading_;
+    std::vector<std::uint32_t> dead_, dead_count_, dead_all_;
+    std::vector<std::uint32_t> emit_counts_, emit_offsets_;
+    std::size_t emit_first_ = 0;
+    std::uint32_t next_id_ = 0;
+    std::uint64_t frame_ = 0;
+    Vec3f offset_, prev_offset_, velocity_;
+    DissolveFront dissolve_;
+    bool first_frame_ = true;
+};
+
+// Where collider c of `desc` is at time t (seconds): eased from `from` to `to` and back every period.
+Vec3f diffuse_collider_position(const DiffuseCollider& c, double t);
+
+}  // namespace rivulet

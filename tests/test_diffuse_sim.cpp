@@ -1,0 +1,364 @@
+// Diffuse objects (Juckel & Beckhaus, "Rendering diffuse objects using particle systems inside voxelized
+// surface geometry"): each force against its closed-form path, emission within the maximum density,
+// fading and re-entry, collisions that leave no particle inside a solid, the back-to-front order of the
+// staged sprites, and the same bytes at 1 and 2 threads, replayed from a recording.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "jobs/diffuse_update.h"
+#include "runtime/lib/frame_pipeline.h"
+#include "runtime/lib/recording.h"
+#include "runtime/lib/scene_simulation.h"
+#include "support/test_support.h"
+#include "systems/diffuse/collider_mesh.h"
+#include "systems/diffuse/diffuse_simulation.h"
+#include "systems/scenes/scene_json.h"
+
+namespace rivulet {
+namespace {
+
+constexpr float kDt = 1.0f / 60.0f;
+
+void expect_near(Vec3f a, Vec3f b, float tol, const char* what) {
+    EXPECT_NEAR(a.x, b.x, tol) << what;
+    EXPECT_NEAR(a.y, b.y, tol) << what;
+    EXPECT_NEAR(a.z, b.z, tol) << what;
+}
+
+// Steps one particle `n` times under `force` about `centre` with no drag.
+void run(const VoxelForce& force, Vec3f centre, Vec3f accel, int n, Vec3f& p, Vec3f& v) {
+    const VoxelStep step = make_voxel_step(force, 0, kDt);
+    for (int i = 0; i < n; ++i) apply_voxel_step(step, centre, accel, p, v);
+}
+
+TEST(DiffuseForces, LinearFollowsTheParabola) {
+    const VoxelForce f{1, {0.5f, -2.0f, 0.25f}, 0, 0};
+    const Vec3f p0{0.1f, 1, 0}, v0{1, 2, 0};
+    Vec3f p = p0, v = v0;
+    const Vec3f wind{0.2f, 0, 0};
+    run(f, {}, wind, 120, p, v);
+    const float t = 120 * kDt;
+    const Vec3f a = f.vector + wind;
+    expect_near(p, p0 + v0 * t + a * (0.5f * t * t), 2e-4f, "position");
+    expect_near(v, v0 + a * t, 2e-4f, "velocity");
+}
+
+TEST(DiffuseForces, OrbitFollowsTheEllipseAndKeepsItsEnergy) {
+    const float w = 2.0f;
+    const VoxelForce f{3, {}, w, 0};
+    const Vec3f c{0.3f, 1, -0.2f}, d0{0.2f, 0, 0}, v0{0, 0.3f, 0.1f};
+    Vec3f p = c + d0, v = v0;
+    run(f, c, {}, 300, p, v);
+    const float t = 300 * kDt;
+    expect_near(p, c + d0 * std::cos(w * t) + v0 * (std::sin(w * t) / w), 1e-4f, "orbit");
+    const Vec3f d = p - c;
+    EXPECT_NEAR(dot(v, v) + w * w * dot(d, d), dot(v0, v0) + w * w * dot(d0, d0), 1e-5f);
+}
+
+TEST(DiffuseForces, SpiralTurnsAndDrawsInAndHelixTurnsAndRises) {
+    const float rate = 1.5f, pull = 0.4f, rise = 0.2f;
+    const Vec3f c{0, 1, 0}, d0{0.3f, 0.1f, 0};
+    const float t = 90 * kDt;
+    const float turn = rate * t;
+    {
+        Vec3f p = c + d0, v{};
+        run({2, {0, 1, 0}, rate, pull}, c, {}, 90, p, v);
+        // About +y the radial part turns counter-clockwise seen from above and shrinks by e^-pull t.
+        const float r = 0.3f * std::exp(-pull * t);
+        expect_near(p, c + Vec3f{r * std::cos(turn), 0.1f, -r * std::sin(turn)}, 1e-4f, "spiral");
+    }
+    {
+        Vec3f p = c + d0, v{};
+        run({4, {0, 1, 0}, rate, rise}, c, {}, 90, p, v);
+        expect_near(p, c + Vec3f{0.3f * std::cos(turn), 0.1f + rise * t, -0.3f * std::sin(turn)}, 1e-4f,
+                    "helix");
+    }
+}
+
+// A one-row grid: voxel 0 active, voxel 1 outside the mesh; particles cross between them.
+struct TwoVoxels {
+    std::vector<float> x, y, z, vx, vy, vz;
+    std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead, dead_count{0};
+    std::vector<float> from_size, to_size, elapsed, duration;
+    std::vector<DiffuseSprite> sprite{1};
+    std::vector<std::uint8_t> fading;
+    std::vector<std::uint16_t> material{0, kNoMaterial};
+    std::vector<std::uint32_t> voxel_rgba{0x80ffffffu, 0};
+    std::vector<std::uint8_t> blocked{0, 0};
+    std::vector<std::uint32_t> density{1, 0};
+    std::vector<VoxelMaterial> materials{1};
+
+    explicit TwoVoxels(float x0, float vx0) {
+        x = {x0}, y = {0.5f}, z = {0.5f}, vx = {vx0}, vy = {0}, vz = {0}, id = {0};
+        voxel = {0}, from_rgba = to_rgba = {0x80ffffffu}, dead = {0};
+        from_size = to_size = {0.05f}, elapsed = {0}, duration = {0.1f}, fading = {0};
+        VoxelMaterial& m = materials[0];
+        m.lifetime = 0.5f, m.fade_rgba = 0, m.fade_size = 0.2f, m.drag = 0;
+        m.step = make_voxel_step({}, 0, kDt);
+    }
+    DiffuseUpdateContext context() {
+        DiffuseUpdateContext c;
+        c.particles = {x, y, z, vx, vy, vz, id};
+        c.attributes = {voxel, from_rgba, to_rgba, from_size, to_size, elapsed, duration, fading, sprite};
+        c.grid = {{0, 0, 0}, 1, 2, 1, 1};
+        c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
+        c.blocked = blocked, c.density = density;
+        c.dt = kDt, c.block_size = 1, c.dead = dead, c.dead_count = dead_count;
+        c.outside = make_voxel_step({}, 0, kDt);
+        return c;
+    }
+    int step() {
+        diffuse_update_block(0, context());
+        return int(dead_count[0]);
+    }
+};
+
+TEST(DiffuseUpdate, LeavingFadesToTheLastVoxelsFadeAndDiesAfterItsLifetime) {
+    TwoVoxels t(0.95f, 6.0f);  // into voxel 1 on the first step
+    EXPECT_EQ(t.step(), 0);
+    EXPECT_EQ(t.voxel[0], kOutsideVoxel);
+    EXPECT_EQ(t.fading[0], 1);
+    EXPECT_EQ(t.density[0], 0u) << "the voxel lost its particle";
+    EXPECT_EQ(t.to_rgba[0] >> 24, 0u) << "fades to the fade alpha";
+    EXPECT_FLOAT_EQ(t.to_size[0], 0.2f);
+    t.vx[0] = 0;
+    int steps = 1;
+    while (t.step() == 0 && steps < 1000) ++steps;
+    // Dies on the step its fade (0.5 s = 30 steps, the step it left included) completes.
+    EXPECT_EQ(steps + 1, 30);
+    EXPECT_EQ(t.sprite[0].rgba >> 24, 0u) << "faded out completely";
+    EXPECT_FLOAT_EQ(t.sprite[0].size, 0.2f);
+}
+
+TEST(DiffuseUpdate, ReenteringStopsTheFadeAndResetsTheLifetime) {
+    TwoVoxels t(0.95f, 6.0f);
+    t.step();
+    ASSERT_EQ(t.fading[0], 1);
+    t.vx[0] = 0;
+    for (int i = 0; i < 20; ++i) ASSERT_EQ(t.step(), 0);  // most of the 30-step fade
+    t.vx[0] = -6.0f;                                      // back into voxel 0
+    t.step();
+    EXPECT_EQ(t.voxel[0], 0u);
+    EXPECT_EQ(t.fading[0], 0);
+    EXPECT_EQ(t.density[0], 1u);
+    EXPECT_EQ(t.to_rgba[0], 0x80ffffffu);
+    t.vx[0] = 0;
+    for (int i = 0; i < 300; ++i) ASSERT_EQ(t.step(), 0) << "alive inside an active voxel, step " << i;
+    EXPECT_EQ(t.sprite[0].rgba, 0x80ffffffu);
+}
+
+TEST(DiffuseUpdate, DeadAreFilledFromTheEndInAFixedOrder) {
+    std::vector<int> v{0, 1, 2, 3, 4, 5, 6, 7};
+    const std::vector<std::uint32_t> dead{1, 4, 6, 7};
+    const std::size_t n =
+        fill_dead_from_end(v.size(), dead, [&](std::size_t from, std::size_t to) { v[to] = v[from]; });
+    ASSERT_EQ(n, 4u);
+    EXPECT_EQ(std::vector<int>(v.begin(), v.begin() + 4), (std::vector<int>{0, 5, 2, 3}));
+}
+
+// A small box-shaped object that fills fast: 10^3 voxels.
+SceneDesc box_scene() {
+    SceneDesc s = make_builtin_scene("ghost");
+    s.name = "box test";
+    s.max_particles = 20000;
+    s.warmup_frames = 0;
+    s.diffuse.mesh = "box";
+    s.diffuse.scale = 1;
+    s.diffuse.resolution = 10;
+    s.diffuse.regions.clear();
+    s.diffuse.colliders.clear();
+    s.container_motion = {};
+    s.diffuse.defaults = {};
+    s.diffuse.defaults.max_density = 5;
+    s.diffuse.defaults.fill_time = 0.1f;
+    s.diffuse.defaults.jitter = 0.3f;
+    return s;
+}
+
+// Particles per voxel, counted from their positions.
+std::vector<std::uint32_t> count_per_voxel(const DiffuseSimulation& d, const ParticleSet& p) {
+    std::vector<std::uint32_t> n(d.density().size(), 0);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const std::uint32_t v = d.grid().voxel_of(Vec3f{p.x()[i], p.y()[i], p.z()[i]} - d.object_offset());
+        if (v != kOutsideVoxel && d.object().material[v] != kNoMaterial) ++n[v];
+    }
+    return n;
+}
+
+TEST(DiffuseSimulation, EmissionFillsEveryVoxelUpToItsMaximumDensityAndNoFurther) {
+    SceneDesc still = box_scene();
+    still.diffuse.defaults.jitter = 0;  // particles stay where they are born
+    SceneSimulation sim(still);
+    const DiffuseSimulation& d = *sim.diffuse();
+    const std::size_t inside = d.object().inside.size();
+    EXPECT_EQ(inside, 1000u) << "a unit box at 10 voxels a side";
+    for (int f = 0; f < 40; ++f) {
+        sim.step_serial(1);
+        for (std::uint32_t v : d.object().inside) ASSERT_LE(d.density()[v], 5u) << "frame " << f;
+    }
+    const std::vector<std::uint32_t> n = count_per_voxel(d, sim.particles());
+    for (std::uint32_t v : d.object().inside) ASSERT_EQ(n[v], 5u) << "every voxel full, none over";
+    EXPECT_EQ(sim.particles().size(), 5000u);
+}
+
+TEST(DiffuseSimulation, DensityCountsTheParticlesInEachVoxelWhileTheyMove) {
+    SceneSimulation sim(box_scene());  // jitter: particles wander between voxels
+    const DiffuseSimulation& d = *sim.diffuse();
+    for (int f = 0; f < 60; ++f) {
+        sim.step_serial(1);
+        const std::vector<std::uint32_t> n = count_per_voxel(d, sim.particles());
+        for (std::uint32_t v : d.object().inside) ASSERT_EQ(d.density()[v], n[v]) << "frame " << f;
+    }
+}
+
+TEST(DiffuseSimulation, NoParticleEverInsideAStaticOrMovingSolid) {
+    SceneDesc s = box_scene();
+    s.diffuse.defaults.force = "spiral";
+    s.diffuse.defaults.force_vector = {0, 0, 1};
+    s.diffuse.defaults.force_rate = 3;
+    s.diffuse.defaults.about_region = true;
+    s.diffuse.defaults.jitter = 1.0f;
+    s.diffuse.defaults.drag = 0;
+    DiffuseCollider still;
+    still.shape = "sphere", still.radius = 0.2f, still.from = {0.1f, 0.5f, 0};
+    DiffuseCollider moving;
+    moving.shape = "box", moving.half_extents = {0.1f, 0.3f, 0.1f};
+    moving.from = {-0.9f, 0.5f, 0.2f}, moving.to = {0.9f, 0.5f, 0.2f}, moving.period = 1.0f;
+    s.diffuse.colliders = {still, moving};
+    SceneSimulation sim(s);
+    const DiffuseSimulation& d = *sim.diffuse();
+    for (int f = 0; f < 120; ++f) {
+        sim.step_serial(1);
+        const ParticleSet& p = sim.particles();
+        for (std::size_t c = 0; c < 2; ++c)
+            for (std::size_t i = 0; i < p.size(); ++i)
+                ASSERT_FALSE(
+                    d.collider(c).contains(Vec3f{p.x()[i], p.y()[i], p.z()[i]} - d.collider_centre(c)))
+                    << "particle " << i << " inside collider " << c << " after frame " << f << " at "
+                    << p.x()[i] << "," << p.y()[i] << "," << p.z()[i] << " id " << p.id()[i];
+    }
+    // The voxels the still sphere covers never emit: none of them holds a particle.
+    const std::vector<std::uint32_t> n = count_per_voxel(d, sim.particles());
+    const std::uint32_t centre_voxel = d.grid().voxel_of(still.from);
+    EXPECT_NE(d.blocked()[centre_voxel], 0);
+    EXPECT_EQ(n[centre_voxel], 0u);
+}
+
+// The staged sprites of a frame, run through the pipeline without rendering.
+std::vector<FrameRecord> run_ghost(int threads, int frames, Recording* recording = nullptr) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    SceneDesc s = make_builtin_scene("ghost");
+    s.max_particles = 12000;
+    s.warmup_frames = 5;
+    s.diffuse.resolution = 24;
+    s.diffuse.colliders[0].period = 0.5f;  // through the body within the test's frames
+    PipelineConfig config;
+    config.method = SurfaceMethod::kSprites;
+    config.render = false;
+    config.hash_frames = true;
+    FramePipeline p(s, config);
+    p.warmup();
+    p.run(frames);
+    if (recording) {
+        std::vector<FrameInputs> inputs;
+        for (std::uint64_t f = 0; f < std::uint64_t(s.warmup_frames + frames); ++f)
+            inputs.push_back(scripted_inputs(s, f));
+        *recording = make_recording(p, inputs);
+    }
+    return p.records();
+}
+
+TEST(DiffusePipeline, SameBytesAtOneAndTwoThreadsAndReplayedFromARecording) {
+    Recording rec;
+    const std::vector<FrameRecord> one = run_ghost(1, 24, &rec);
+    const std::vector<FrameRecord> two = run_ghost(2, 24);
+    ASSERT_EQ(one.size(), two.size());
+    for (std::size_t i = 0; i < one.size(); ++i) {
+        EXPECT_EQ(one[i].particle_hash, two[i].particle_hash) << "frame " << i;
+        EXPECT_EQ(one[i].hash, two[i].hash) << "frame " << i;
+        EXPECT_EQ(one[i].particles, two[i].particles);
+    }
+    EXPECT_GT(one.back().particles, 1000u);
+    const std::string path = test::temp_path("ghost.rivrec");
+    write_recording(path, rec);
+    const Recording back = read_recording(path);
+    EXPECT_EQ(back.method, SurfaceMethod::kSprites);
+    EXPECT_EQ(scene_to_json(back.scene), scene_to_json(rec.scene));
+    EXPECT_FALSE(first_divergence(back, two).has_value());
+}
+
+TEST(DiffusePipeline, SpritesAreStagedBackToFront) {
+    SceneDesc s = make_builtin_scene("ghost");
+    s.max_particles = 8000;
+    s.warmup_frames = 20;
+    s.diffuse.resolution = 20;
+    PipelineConfig config;
+    config.method = SurfaceMethod::kSprites;
+    config.render = false;
+    FramePipeline p(s, config);
+    p.warmup();
+    p.run(2);
+    FrameView view;
+    p.surface().fill_view(1, view);
+    const auto sprites = view.diffuse.sprites;
+    ASSERT_GT(sprites.size(), 1000u);
+    const Vec3f eye = s.camera.eye, dir = normalize(s.camera.target - eye);
+    const auto depth = [&](const DiffuseSprite& q) { return dot(Vec3f{q.x, q.y, q.z} - eye, dir); };
+    for (std::size_t i = 1; i < sprites.size(); ++i)
+        ASSERT_GE(depth(sprites[i - 1]) + 1e-5f, depth(sprites[i])) << "sprite " << i;
+}
+
+TEST(DiffuseScenes, EveryBuiltInDiffuseSceneRunsAndTheFireIsOneVoxel) {
+    for (const char* name : {"ghost", "dissolve", "fire", "bunny"}) {
+        SceneDesc s = make_builtin_scene(name);
+        s.warmup_frames = 0;
+        SceneSimulation sim(s);
+        sim.step_serial(10);
+        EXPECT_GT(sim.particles().size(), 0u) << name;
+        if (std::string(name) == "fire") {
+            EXPECT_EQ(sim.diffuse()->object().inside.size(), 1u);
+        }
+    }
+}
+
+TEST(DiffuseScenes, SceneFilesRoundTripAndBadValuesAreNamed) {
+    const SceneDesc ghost = make_builtin_scene("ghost");
+    EXPECT_EQ(scene_to_json(scene_from_json(scene_to_json(ghost), "roundtrip")), scene_to_json(ghost));
+    const auto error = [](const std::string& text) {
+        try {
+            scene_from_json(nlohmann::json::parse(text), "f.json");
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(error(R"({"base": "ghost", "diffuse": {"resolution": 300}})").find("resolution"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"base": "ghost", "diffuse": {"defaults": {"force": "vortex"}}})").find("vortex"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"base": "ghost", "diffuse": {"defaults": {"alpha": 2}}})").find("alpha"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"base": "ghost", "diffuse": {"colliders": [{"shape": "cone"}]}})").find("shape"),
+              std::string::npos);
+}
+
+TEST(DiffuseScenes, AnOpenMeshIsAClearError) {
+    const std::string path = test::temp_path("open.obj");
+    test::write_text(path,
+                     "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n");  // no fourth face
+    SceneDesc s = make_builtin_scene("ghost");
+    s.diffuse.mesh = path;
+    try {
+        SceneSimulation sim(s);
+        FAIL() << "an open mesh was accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("not closed"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace rivulet
