@@ -65,6 +65,7 @@ struct DissolveFront {
     float front = -3.0e38f;
     float band = 0;
     Vec3f wind;
+    bool active() const { return front > -3.0e38f; }
     bool behind(Vec3f p, float jitter) const { return dot(p, direction) < front - band * jitter; }
 };
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 
+#include "jobs/counter_rng.h"
+
 namespace rivulet {
 namespace {
 
@@ -46,9 +48,15 @@ void diffuse_update_block(std::size_t block, const DiffuseUpdateContext& ctx) {
         Vec3f p{P.x[i], P.y[i], P.z[i]}, v{P.vx[i], P.vy[i], P.vz[i]};
         const Vec3f p0 = p;
         const std::uint32_t old_voxel = A.voxel[i];
-        const float ragged = float(P.id[i] & 0xffffu) * (1.0f / 65536.0f);
-        const Vec3f accel =
-            ctx.dissolve.behind(p - ctx.offset, ragged) ? ctx.accel + ctx.dissolve.wind : ctx.accel;
+        Vec3f accel = ctx.accel;
+        if (ctx.dissolve.active()) {
+            // Each particle its own place in the front's band and its own gust, so the shape breaks up
+            // rather than sliding away whole.
+            const std::uint64_t h = mix64(P.id[i]);
+            const float ragged = float(h >> 40) * (1.0f / 16777216.0f);
+            const float gust = 0.3f + 1.4f * float((h >> 16) & 0xffffffu) * (1.0f / 16777216.0f);
+            if (ctx.dissolve.behind(p - ctx.offset, ragged)) accel = accel + ctx.dissolve.wind * gust;
+        }
         if (active(old_voxel)) {
             const VoxelMaterial& m = ctx.materials[ctx.material[old_voxel]];
             const bool centred = m.force.kind >= 2;  // spiral, orbit, helix

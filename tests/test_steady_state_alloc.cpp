@@ -26,3 +26,26 @@ TEST(SteadyState, FrameLoopAllocatesNothing) {
     EXPECT_EQ(during, 0) << "operator new called " << during << " times in 60 steady-state frames";
     ASSERT_EQ(pipeline.records().size(), 70u);
 }
+
+// A diffuse object: update, compaction, emission, the radix sort, staging, the sprite upload and draw,
+// with a collider crossing the object and particles dying and being born every frame.
+TEST(SteadyState, DiffuseFrameLoopAllocatesNothing) {
+    ThreadControl control(2);
+    PipelineConfig config;
+    config.method = SurfaceMethod::kSprites;
+    config.size = {320, 180};
+    config.hash_frames = true;
+    SceneDesc scene = make_builtin_scene("ghost");
+    scene.warmup_frames = 30;
+    scene.max_particles = 20000;
+    scene.diffuse.resolution = 24;
+    scene.diffuse.colliders[0].period = 1.0f;
+    FramePipeline pipeline(scene, config);
+    pipeline.warmup();
+    pipeline.reserve_records(200);
+    pipeline.run(10);
+    const long before = rivulet::test::allocation_count();
+    pipeline.run(60);
+    const long during = rivulet::test::allocation_count() - before;
+    EXPECT_EQ(during, 0) << "operator new called " << during << " times in 60 steady-state frames";
+}

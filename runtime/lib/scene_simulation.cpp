@@ -51,10 +51,10 @@ void SceneSimulation::begin_frame() {
 }
 
 void SceneSimulation::end_frame() {
-    if (diffuse_) {
-    } else if (sph_) {
+    // A diffuse object's frame ends with its emission job; nothing is left to do here.
+    if (sph_) {
         sph_->end_frame(particles_);
-    } else {
+    } else if (stream_) {
         stream_->end_frame(particles_);
     }
     next_frame_ = last_frame_ + 1;

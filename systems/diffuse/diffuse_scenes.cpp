@@ -88,11 +88,11 @@ SceneDesc dissolve() {
     d.defaults.fade_color = {0.85f, 0.8f, 0.72f};
     d.defaults.fade_alpha = 0;
     d.defaults.fade_size = 0.05f;
-    d.defaults.lifetime = 1.6f;
+    d.defaults.lifetime = 1.0f;
     d.defaults.drag = 0.6f;
     d.dissolve.start = 2.5f;
-    d.dissolve.wind = {3.0f, 0.8f, -0.4f};
-    d.dissolve.front_speed = 0.35f;
+    d.dissolve.wind = {3.0f, 1.2f, -0.6f};
+    d.dissolve.front_speed = 0.5f;
     return s;
 }
 
