@@ -35,12 +35,34 @@ std::size_t depth_sort_blocks(std::size_t n, std::uint32_t block_size) {
     return (n + block_size - 1) / block_size;
 }
 
-void depth_keys_block(const DepthSortContext& ctx, std::size_t block) {
+namespace {
+
+// Block b's keys; `position(i, x, y, z)` fetches particle i's centre from whichever layout holds it.
+template <class Position>
+void keys_block(const DepthSortContext& ctx, std::size_t block, Position&& position) {
     const auto [begin, end] = block_range(ctx, block);
     const DepthKeyMap& m = ctx.map;
     const float scale = m.scale();
-    for (std::size_t i = begin; i < end; ++i)
-        ctx.keys[i] = m.key_of_depth(m.depth(ctx.x[i], ctx.y[i], ctx.z[i]), scale);
+    float x = 0, y = 0, z = 0;
+    for (std::size_t i = begin; i < end; ++i) {
+        position(i, x, y, z);
+        ctx.keys[i] = m.key_of_depth(m.depth(x, y, z), scale);
+    }
+}
+
+}  // namespace
+
+void depth_keys_block(const DepthSortContext& ctx, std::size_t block) {
+    keys_block(ctx, block, [&](std::size_t i, float& x, float& y, float& z) {
+        x = ctx.x[i], y = ctx.y[i], z = ctx.z[i];
+    });
+}
+
+void depth_keys_block(const DepthSortContext& ctx, std::span<const DiffuseSprite> sprites,
+                      std::size_t block) {
+    keys_block(ctx, block, [&](std::size_t i, float& x, float& y, float& z) {
+        x = sprites[i].x, y = sprites[i].y, z = sprites[i].z;
+    });
 }
 
 void radix_histogram_block(const DepthSortContext& ctx, std::uint32_t pass, std::size_t block) {

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <span>
 
+#include "jobs/diffuse_particles.h"
 #include "jobs/vec3.h"
 
 namespace rivulet {
@@ -75,6 +76,8 @@ std::size_t depth_sort_blocks(std::size_t n, std::uint32_t block_size = kDepthSo
 
 // Parallel over blocks: keys of block b's particles. Runs first.
 void depth_keys_block(const DepthSortContext& ctx, std::size_t block);
+// The same, the positions read from packed sprites (x, y, z of the context unused).
+void depth_keys_block(const DepthSortContext& ctx, std::span<const DiffuseSprite> sprites, std::size_t block);
 // Parallel over blocks: counts of block b's digits for `pass` (0: low 11 bits, 1: high 11 bits).
 void radix_histogram_block(const DepthSortContext& ctx, std::uint32_t pass, std::size_t block);
 // Serial, after every block's histogram of `pass`: turns the counts into each block's write cursors.

@@ -139,3 +139,16 @@ TEST(DepthRadixSort, EqualKeysKeepIndexOrder) {
 }
 
 }  // namespace
+
+TEST(DepthRadixSort, KeysFromPackedSpritesMatchKeysFromPositionArrays) {
+    const Particles p = random_particles(5000, 11);
+    Buffers arrays(p, test_map(), 512);
+    std::vector<DiffuseSprite> sprites(p.x.size());
+    for (std::size_t i = 0; i < sprites.size(); ++i) sprites[i] = {p.x[i], p.y[i], p.z[i], 0.1f, 0xffffffffu};
+    Buffers packed(p, test_map(), 512);
+    for (std::size_t b = 0; b < depth_sort_blocks(p.x.size(), 512); ++b) {
+        depth_keys_block(arrays.ctx, b);
+        depth_keys_block(packed.ctx, sprites, b);
+    }
+    EXPECT_EQ(packed.keys, arrays.keys);
+}

@@ -19,17 +19,19 @@ SpritesSurface::SpritesSurface(const SceneDesc& scene, std::function<std::span<c
     for (Staged& s : staged_) s.sprites.reserve(max_particles_);
     for (auto* a : {&keys_, &keys_tmp_, &order_, &order_tmp_}) a->reserve(max_particles_);
     histograms_.reserve(std::max<std::size_t>(depth_sort_blocks(max_particles_), 1) * kRadixDigits);
+    // The camera is the scene's, fixed: the depth range of a ball around its target that holds the
+    // object and its margin.
+    const Vec3f eye = scene_.camera.eye;
+    map_.origin = eye;
+    map_.direction = normalize(scene_.camera.target - eye);
+    const float reach = length(scene_.camera.target - eye);
+    map_.depth_min = std::max(0.0f, reach - kDepthMargin - 2.0f);
+    map_.depth_max = reach + kDepthMargin + 2.0f;
 }
 
 DepthSortContext SpritesSurface::sort_context(std::size_t n) {
     DepthSortContext ctx;
-    const Vec3f eye = scene_.camera.eye;
-    ctx.map.origin = eye;
-    ctx.map.direction = normalize(scene_.camera.target - eye);
-    // The depth range of a ball around the camera target that holds the object and its margin.
-    const float reach = length(scene_.camera.target - eye);
-    ctx.map.depth_min = std::max(0.0f, reach - kDepthMargin - 2.0f);
-    ctx.map.depth_max = reach + kDepthMargin + 2.0f;
+    ctx.map = map_;
     ctx.keys = keys_.span(n), ctx.keys_tmp = keys_tmp_.span(n);
     ctx.order = order_.span(n), ctx.order_tmp = order_tmp_.span(n);
     ctx.histograms = histograms_.span(depth_sort_blocks(n) * kRadixDigits);
@@ -46,19 +48,9 @@ FrameGraph::JobId SpritesSurface::add_jobs(FrameGraph& graph, std::function<Cons
                                         staged_[slot()].count = frame_.size();
                                     },
                                     {after});
-    // The keys straight from the packed sprites (depth_keys_block reads three position arrays).
     FrameGraph::JobId last = graph.parallel(
         "sprites.keys", blocks,
-        [this](std::size_t b) {
-            const DepthSortContext ctx = sort_context(frame_.size());
-            const float scale = ctx.map.scale();
-            const std::size_t end = std::min(frame_.size(), (b + 1) * std::size_t(ctx.block_size));
-            for (std::size_t i = b * ctx.block_size; i < end; ++i) {
-                const DiffuseSprite& q = frame_[i];
-                ctx.keys[i] = ctx.map.key_of_depth(ctx.map.depth(q.x, q.y, q.z), scale);
-            }
-        },
-        {begin});
+        [this](std::size_t b) { depth_keys_block(sort_context(frame_.size()), frame_, b); }, {begin});
     for (std::uint32_t pass = 0; pass < kRadixPasses; ++pass) {
         const std::string p = std::to_string(pass);
         const auto hist = graph.parallel(

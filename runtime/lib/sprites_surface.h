@@ -40,6 +40,7 @@ class SpritesSurface final : public SurfaceSystem {
         std::size_t count = 0;
     };
     std::array<Staged, kFrameSlots> staged_;
+    DepthKeyMap map_;
     std::span<const DiffuseSprite> frame_;  // the particles of the frame being sorted
     AlignedArray<std::uint32_t> keys_, keys_tmp_, order_, order_tmp_, histograms_;
 };
