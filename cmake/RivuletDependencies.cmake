@@ -13,6 +13,18 @@ pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavcodec libavformat libavutil libswscale)
 # Assimp reads the meshes diffuse objects are voxelized from (systems/io/assimp_mesh.cpp).
 pkg_check_modules(ASSIMP REQUIRED IMPORTED_TARGET assimp)
+# OpenVDB writes density volumes as .vdb files (systems/io/vdb_writer.cpp). Debian ships FindOpenVDB.cmake
+# (which also wants Boost.Iostreams) in a folder of its own, beside a FindTBB.cmake of its own: that folder
+# is on the module path only while OpenVDB is looked up, so no other package is found differently.
+find_path(RIVULET_OPENVDB_MODULE_DIR FindOpenVDB.cmake
+          PATHS /usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB /usr/lib/cmake/OpenVDB NO_DEFAULT_PATH)
+if(NOT RIVULET_OPENVDB_MODULE_DIR)
+  message(FATAL_ERROR "FindOpenVDB.cmake not found: install libopenvdb-dev (.ci/install-deps)")
+endif()
+set(RIVULET_MODULE_PATH ${CMAKE_MODULE_PATH})
+list(APPEND CMAKE_MODULE_PATH ${RIVULET_OPENVDB_MODULE_DIR})
+find_package(OpenVDB REQUIRED)
+set(CMAKE_MODULE_PATH ${RIVULET_MODULE_PATH})
 if(RIVULET_BUILD_TESTS)
   find_package(GTest CONFIG REQUIRED)
 endif()

@@ -35,6 +35,13 @@ inline F4 operator*(F4 a, F4 b) {
 inline unsigned less_mask(F4 a, F4 b) {
     return static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(a.v, b.v)));
 }
+inline void store(float* p, F4 a) {
+    _mm_storeu_ps(p, a.v);
+}
+// Lane-wise max; b where a is NaN, as maxps.
+inline F4 max(F4 a, F4 b) {
+    return {_mm_max_ps(a.v, b.v)};
+}
 
 #else
 
@@ -60,6 +67,13 @@ inline unsigned less_mask(F4 a, F4 b) {
     unsigned m = 0;
     for (unsigned k = 0; k < 4; ++k) m |= static_cast<unsigned>(a.v[k] < b.v[k]) << k;
     return m;
+}
+inline void store(float* p, F4 a) {
+    for (unsigned k = 0; k < 4; ++k) p[k] = a.v[k];
+}
+inline F4 max(F4 a, F4 b) {
+    return {{a.v[0] > b.v[0] ? a.v[0] : b.v[0], a.v[1] > b.v[1] ? a.v[1] : b.v[1],
+             a.v[2] > b.v[2] ? a.v[2] : b.v[2], a.v[3] > b.v[3] ? a.v[3] : b.v[3]}};
 }
 
 #endif

@@ -90,6 +90,29 @@ TEST(FramePipeline, MarchingSlicesFrameShowsWaterWhereTheStreamIs) {
     EXPECT_GT(c.share(), 0.75) << c.blue << " of " << c.seen;
 }
 
+TEST(FramePipeline, DensityVolumeInTheFrameLoopGivesTheSameBytesAtOneAndTwoThreads) {
+    const auto one = frame_hashes(1, 12, SurfaceMethod::kVolume, "faucet");
+    const auto two = frame_hashes(2, 12, SurfaceMethod::kVolume, "faucet");
+    ASSERT_EQ(one.size(), 12u);
+    for (std::size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], two[i]) << "frame " << i << " differs";
+    EXPECT_NE(one[0], one[1]);
+}
+
+TEST(FramePipeline, DensityVolumeFrameShowsWaterWhereTheStreamIs) {
+    ThreadControl control(2);
+    PipelineConfig config;
+    config.size = {320, 180};
+    config.method = SurfaceMethod::kVolume;
+    FramePipeline pipeline(make_builtin_scene("faucet"), config);
+    pipeline.warmup();
+    pipeline.run(1);
+    EXPECT_GT(pipeline.surface().stats(0).groups, 10u) << "bricks stored";
+    std::vector<std::uint8_t> rgba(320 * 180 * 4);
+    const WaterCount c = water_at_particles(pipeline, rgba, 320, 180);
+    ASSERT_GT(c.seen, 1000u);
+    EXPECT_GT(c.share(), 0.75) << c.blue << " of " << c.seen;
+}
+
 TEST(FramePipeline, DefaultSceneFrameShowsWaterWhereTheStreamIs) {
     ThreadControl control(2);
     PipelineConfig config;

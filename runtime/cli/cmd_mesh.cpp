@@ -12,6 +12,7 @@
 #include "systems/io/mesh_io.h"
 #include "systems/io/particle_io.h"
 #include "systems/io/sequence_pattern.h"
+#include "systems/io/vdb_writer.h"
 
 namespace rivulet::cli {
 namespace {
@@ -26,7 +27,12 @@ struct MeshOptions {
     std::string json;
     ScanOptions scan;
     SlicesOptions slices;
+    VolumeOptions volume;
 };
+
+bool ends_with(const std::string& s, const std::string& tail) {
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
 
 nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
     nlohmann::json stages = nlohmann::json::object();
@@ -41,6 +47,10 @@ nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
     if (method == "slices") {
         j["voxel"] = r.voxel, j["rc"] = r.rc, j["iso"] = r.iso, j["blocks"] = r.blocks;
         j["seeds"] = r.seeds, j["cubes"] = r.cubes;
+    } else if (method == "volume") {
+        const DensityGrid& g = r.volume->grid;
+        j["voxel"] = r.voxel, j["kernel_radius"] = r.rc, j["iso"] = r.iso, j["bricks"] = r.blocks;
+        j["grid"] = {g.samples_x(), g.samples_y(), g.samples_z()};
     } else {
         j["groups"] = r.groups, j["isolated"] = r.isolated;
     }
@@ -69,6 +79,18 @@ int run(const MeshOptions& o) {
         probe.radius = 1, probe.v_top = 1, probe.v_bottom = 0;
         if (const std::string err = probe.validate(); !err.empty()) throw std::invalid_argument(err);
     }
+    req.volume = o.volume.resolve(o.slices.voxel);
+    req.mesh_volume = !ends_with(o.out, ".vdb");
+    if (!req.mesh_volume && o.method != "volume")
+        throw std::invalid_argument("--out FILE.vdb writes a density volume: use it with --method volume");
+    if (o.volume.level_set && req.mesh_volume)
+        throw std::invalid_argument("--level-set goes with --method volume --out FILE.vdb");
+    if (o.method == "volume") {
+        VolumeSettings probe = req.volume;
+        probe.radius = o.radius > 0 ? o.radius : 1.0f;
+        if (probe.voxel > 0 && o.radius <= 0) probe.voxel = 0;  // checked against h with the radius
+        if (const std::string err = probe.validate(); !err.empty()) throw std::invalid_argument(err);
+    }
     ThreadControl threads(o.threads);
     req.radius = o.radius;
     req.repeat = o.repeat;
@@ -92,14 +114,33 @@ int run(const MeshOptions& o) {
     for (std::size_t i = 0; i < jobs.size(); ++i) {
         const ParticleCloud cloud = read_particles(jobs[i].in);
         const MeshResult r = extract_mesh(cloud, req);
-        if (!jobs[i].out.empty()) write_mesh(jobs[i].out, r.mesh.vertices, r.mesh.indices);
+        if (!jobs[i].out.empty()) {
+            if (req.mesh_volume)
+                write_mesh(jobs[i].out, r.mesh.vertices, r.mesh.indices);
+            else
+                write_vdb(jobs[i].out, r.volume->view(), {.level_set = o.volume.level_set});
+        }
+        if (r.volume && r.rc < 1.5f * r.voxel && !sequence)
+            fmt::print(stderr,
+                       "rivulet: note: the kernel radius spans only {:.1f} voxels of the {} cells --max-dim "
+                       "allows: thin parts may vanish; raise --max-dim or give --voxel\n",
+                       r.rc / r.voxel, req.volume.max_dim);
         nlohmann::json j = mesh_json(r, o.method);
         j["input"] = jobs[i].in;
-        if (!sequence)
+        if (!sequence && r.volume) {
+            const DensityGrid& g = r.volume->grid;
+            fmt::print(
+                "{}: {} particles -> {} bricks of a {}x{}x{} grid (voxel {:g}), {} vertices, {} triangles "
+                "in {:.3f} ms (median of {}), {} {}\n",
+                jobs[i].in, r.particles, r.blocks, g.samples_x(), g.samples_y(), g.samples_z(), r.voxel,
+                r.mesh.vertex_count(), r.mesh.triangle_count(), r.total_ms, o.repeat,
+                req.mesh_volume ? "mesh_hash" : "volume_hash", hash_hex(r.hash));
+        } else if (!sequence) {
             fmt::print(
                 "{}: {} particles -> {} vertices, {} triangles in {:.3f} ms (median of {}), mesh_hash {}\n",
                 jobs[i].in, r.particles, r.mesh.vertex_count(), r.mesh.triangle_count(), r.total_ms, o.repeat,
                 hash_hex(r.hash));
+        }
         per_frame.push_back(std::move(j));
         if (sequence) bar.update(static_cast<int>(i + 1));
     }
@@ -127,10 +168,12 @@ void add_mesh_command(CLI::App& app, int& status) {
     cmd->add_option("--repeat", opts->repeat, "Extractions to time; total_ms is their median")
         ->capture_default_str();
     cmd->add_option("--out", opts->out,
-                    "Mesh file to write: .obj, .ply or .vtk (a {} pattern for sequences)");
+                    "Mesh file to write: .obj, .ply or .vtk; with --method volume also .vdb, the density "
+                    "as an OpenVDB grid (a {} pattern for sequences)");
     cmd->add_option("--json", opts->json, "Write counts, timings and mesh_hash as JSON");
     opts->scan.add_to(*cmd);
     opts->slices.add_to(*cmd);
+    opts->volume.add_to(*cmd, true);
     cmd->callback([opts, &status] { status = run(*opts); });
 }
 

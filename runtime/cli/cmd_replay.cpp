@@ -23,6 +23,7 @@ int replay(const ReplayOptions& o) {
     config.method = rec.method;
     config.scan = rec.scan;
     config.slices = rec.slices;
+    config.volume = rec.volume;
     config.screen = rec.screen;
     config.render = false;  // hashes cover the particles and the surface; pictures add nothing to compare
     config.hash_frames = true;

@@ -33,6 +33,7 @@ struct RunOptions {
     ScanOptions scan;
     SlicesOptions slices;
     ScreenOptions screen;
+    VolumeOptions volume;
 };
 
 // Medians over the frames after the first `skip` (caches, allocator and llvmpipe settling).
@@ -72,6 +73,7 @@ int run(const RunOptions& o) {
     config.slices.block_cubes = o.slices.block;
     config.slices.exhaustive_seeds = o.slices.exhaustive;
     config.screen = o.screen.settings;
+    config.volume = o.volume.resolve(o.slices.voxel);
     config.render = !o.no_render;
     config.pipelined = !o.no_pipeline;
     config.out_dir = o.no_render ? "" : o.out;
@@ -120,7 +122,10 @@ int run(const RunOptions& o) {
         "scene {} | method {} | {} frames | {} threads | {} particles, {} {}, {} isolated, {} "
         "triangles (last frame)\n",
         scene.name, method, recs.size(), threads.threads(), last.particles, last.groups,
-        config.method == SurfaceMethod::kSlices ? "blocks" : "groups", last.isolated, last.triangles);
+        config.method == SurfaceMethod::kSlices   ? "blocks"
+        : config.method == SurfaceMethod::kVolume ? "bricks"
+                                                  : "groups",
+        last.isolated, last.triangles);
     fmt::print("{}", format_stage_table(summary, config.render));
     // A limit that was hit is reported (DESIGN §3.6): the picture is right but drawn with fewer cylinders.
     std::size_t short_frames = 0, worst = 0;
@@ -200,6 +205,7 @@ void add_run_command(CLI::App& app, int& status) {
     opts->scan.add_to(*cmd);
     opts->slices.add_to(*cmd);
     opts->screen.add_to(*cmd);
+    opts->volume.add_to(*cmd, false);
     cmd->callback([opts, &status] { status = run(*opts); });
 }
 

@@ -9,6 +9,7 @@
 #include "systems/scan/scan_settings.h"
 #include "systems/scenes/scene.h"
 #include "systems/slices/slices_settings.h"
+#include "systems/volume/volume_settings.h"
 
 namespace rivulet::cli {
 
@@ -52,6 +53,16 @@ struct SlicesOptions {
     std::uint32_t block = SlicesSettings{}.block_cubes;
     bool exhaustive = false;
     void add_to(CLI::App& cmd);
+};
+
+// Options of the density volume shared by `run` and `mesh` (--kernel, --max-dim, --iso; --level-set for
+// `mesh`). Its voxel is --voxel (SlicesOptions).
+struct VolumeOptions {
+    VolumeSettings settings;
+    bool level_set = false;
+    void add_to(CLI::App& cmd, bool offline);
+    // The settings with `voxel` (--voxel, 0: automatic); the radius is set by the caller.
+    VolumeSettings resolve(float voxel) const;
 };
 
 // Options of the screen-space fluid method (--depth-filter, --filter-iterations, --filter-radius); checked

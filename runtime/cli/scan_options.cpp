@@ -67,17 +67,21 @@ void add_method_option(CLI::App& cmd, std::string& method, bool rendered) {
     auto* opt = cmd.add_option(
         "--method", method,
         rendered ? "Surface method: scan (sphere scan conversion), slices (marching slices), "
-                   "screen (screen-space fluid, drawn without a mesh) or sprites (the "
-                   "particles of a diffuse object; default for diffuse scenes, scan otherwise)"
-                 : "Surface method: scan (sphere scan conversion) or slices (marching slices)");
+                   "screen (screen-space fluid, drawn without a mesh), volume (density volume, "
+                   "raycast) or sprites (the particles of a diffuse object; default for diffuse "
+                   "scenes, scan otherwise)"
+                 : "Surface method: scan (sphere scan conversion), slices (marching slices) or volume "
+                   "(density volume: marching cubes, or an OpenVDB grid with --out FILE.vdb)");
     if (!rendered) opt->capture_default_str();
     opt->check(CLI::Validator(
         [rendered](std::string& m) -> std::string {
-            if (m == "scan" || m == "slices" || (rendered && (m == "screen" || m == "sprites"))) return {};
+            if (m == "scan" || m == "slices" || m == "volume" ||
+                (rendered && (m == "screen" || m == "sprites")))
+                return {};
             if (m == "sprites")
                 return "'sprites' draws a diffuse object and makes no mesh: use it with 'run'";
             if (m == "screen") return "'screen' draws the fluid and makes no mesh: use it with 'run'";
-            return fmt::format("'{}' is not a surface method: choose 'scan', 'slices'{}", m,
+            return fmt::format("'{}' is not a surface method: choose 'scan', 'slices', 'volume'{}", m,
                                rendered ? ", 'screen' or 'sprites'" : "");
         },
         "METHOD"));
@@ -119,7 +123,9 @@ void ScreenOptions::add_to(CLI::App& cmd) {
 }
 
 void SlicesOptions::add_to(CLI::App& cmd) {
-    cmd.add_option("--voxel", voxel, "Marching slices: cube edge in world units (default: radius / 2)")
+    cmd.add_option("--voxel", voxel,
+                   "Marching slices: cube edge in world units (default: radius / 2); density volume: the "
+                   "grid's voxel (default: a quarter of the kernel radius, grown to fit --max-dim)")
         ->check(positive_number());
     cmd.add_option("--block", block, "Marching slices: cubes per block edge (n, a block is n^3 cubes)")
         ->capture_default_str()
@@ -166,6 +172,31 @@ void parse_size(const std::string& text, int& width, int& height) {
         throw std::invalid_argument(
             fmt::format("--size must be between 16x16 and 8192x8192, got '{}'", text));
     width = w, height = h;
+}
+
+}  // namespace rivulet::cli
+
+namespace rivulet::cli {
+
+void VolumeOptions::add_to(CLI::App& cmd, bool offline) {
+    cmd.add_option("--kernel", settings.kernel_radii,
+                   "Density volume: the poly6 kernel's support radius in particle radii")
+        ->capture_default_str();
+    cmd.add_option("--max-dim", settings.max_dim, "Density volume: cells per axis at most (a multiple of 8)")
+        ->capture_default_str();
+    cmd.add_option("--iso", settings.iso,
+                   "Density volume: the surface's level of F (default: calibrated so a flat surface lies "
+                   "one radius outside the outermost particles)");
+    if (offline)
+        cmd.add_flag("--level-set", level_set,
+                     "Density volume, --out FILE.vdb: also write a narrow-band signed distance grid "
+                     "\"surface\" of the iso-surface");
+}
+
+VolumeSettings VolumeOptions::resolve(float voxel) const {
+    VolumeSettings s = settings;
+    s.voxel = voxel;
+    return s;
 }
 
 }  // namespace rivulet::cli

@@ -100,9 +100,9 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
     // Traced, the render's passes are zones too: GL is finished after each to time it.
     if (config_.trace) config_.screen.time_passes = true;
     // Every thread that may run a job of the method gets its scratch now, so no frame allocates it later.
-    surface_ =
-        make_surface_system({config_.method, config_.scan, config_.slices, config_.screen}, scene_,
-                            static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()), sim_.get());
+    surface_ = make_surface_system(
+        {config_.method, config_.scan, config_.slices, config_.screen, config_.volume, {}}, scene_,
+        static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()), sim_.get());
     for (FrameSlot& slot : slots_) {
         const HeightFieldView pool = sim_->pool_view();
         slot.pool_heights.reserve(std::max<std::size_t>(pool.heights.size(), 1));
@@ -115,8 +115,10 @@ FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& confi
         trace_render_ = config_.trace->intern("render");
         trace_png_ = config_.trace->intern("png_encode");
         trace_video_ = config_.trace->intern("video_encode");
-        const char* parts[] = {"render.upload", "render.shadow", "render.scene",   "render.water_thickness",
-                               "render.water",  "render.screen", "render.diffuse", "render.finish"};
+        const char* parts[] = {"render.upload", "render.volume_upload",   "render.shadow",
+                               "render.scene",  "render.water_thickness", "render.water",
+                               "render.screen", "render.volume",          "render.diffuse",
+                               "render.finish"};
         for (std::size_t i = 0; i < trace_parts_.size(); ++i)
             trace_parts_[i] = config_.trace->intern(parts[i]);
         const char* screen_parts[] = {"screen.copy",      "screen.depth",     "screen.smoothing",
@@ -242,10 +244,11 @@ void FramePipeline::trace_render_parts(std::uint32_t frame, std::int64_t begin_n
         at = end;
     };
     const RenderTimings& t = renderer_->timings();
-    const double parts[] = {t.upload, t.shadow, t.scene,   t.water_thickness,
-                            t.water,  t.screen, t.diffuse, t.finish};
+    const double parts[] = {t.upload, t.volume_upload, t.shadow, t.scene,   t.water_thickness,
+                            t.water,  t.screen,        t.volume, t.diffuse, t.finish};
+    static_assert(std::size(parts) == std::tuple_size_v<decltype(trace_parts_)>);
     for (std::size_t i = 0; i < trace_parts_.size(); ++i) {
-        if (i == 5 && surface_->method() == SurfaceMethod::kScreen) {
+        if (i == 6 && surface_->method() == SurfaceMethod::kScreen) {
             const std::int64_t screen_begin = at;
             const ScreenFluidTimings& s = renderer_->screen_fluid().timings();
             const double screen[] = {s.copy_scene, s.depth, s.smoothing, s.thickness, s.composite, s.spray};

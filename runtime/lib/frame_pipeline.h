@@ -26,6 +26,7 @@ struct PipelineConfig {
     ScanSettings scan;      // v_top / v_bottom / radius are taken from the scene
     SlicesSettings slices;  // radius is taken from the scene
     ScreenFluidSettings screen;
+    VolumeSettings volume;     // radius is taken from the scene
     bool render = true;        // false: extraction only (benchmarks, tests without GL)
     bool pipelined = true;     // false: extract then render, one after the other
     bool hash_frames = false;  // frame_output_hash per frame (determinism tests, replay)
@@ -113,7 +114,7 @@ class FramePipeline {
     FrameRecord pending_;  // extraction figures of the frame in flight
     std::uint16_t trace_render_ = 0, trace_png_ = 0, trace_video_ = 0;
     // The render's parts (RenderTimings order) and the screen-space pass's (ScreenFluidTimings order).
-    std::array<std::uint16_t, 8> trace_parts_{};
+    std::array<std::uint16_t, 10> trace_parts_{};
     std::array<std::uint16_t, 6> trace_screen_parts_{};
 };
 

@@ -14,6 +14,7 @@
 #include "systems/scenes/scene_json.h"
 #include "systems/scenes/scene_limits.h"
 #include "systems/slices/slices_settings_json.h"
+#include "systems/volume/volume_settings_json.h"
 
 namespace rivulet {
 namespace {
@@ -51,6 +52,7 @@ void write_recording(const std::string& path, const Recording& r) {
     doc["method"] = surface_method_name(r.method);
     doc["settings"] = r.method == SurfaceMethod::kScan     ? scan_settings_to_json(r.scan)
                       : r.method == SurfaceMethod::kSlices ? slices_settings_to_json(r.slices)
+                      : r.method == SurfaceMethod::kVolume ? volume_settings_to_json(r.volume)
                                                            : screen_fluid_settings_to_json(r.screen);
     json inputs = json::array();
     for (const FrameInputs& in : r.inputs)
@@ -99,6 +101,8 @@ Recording read_recording(const std::string& path) {
             r.scan = scan_settings_from_json(doc.at("settings"), where + ": settings");
         } else if (r.method == SurfaceMethod::kSlices) {
             r.slices = slices_settings_from_json(doc.at("settings"), where + ": settings");
+        } else if (r.method == SurfaceMethod::kVolume) {
+            r.volume = volume_settings_from_json(doc.at("settings"), where + ": settings");
         } else {
             r.screen = screen_fluid_settings_from_json(doc.at("settings"), where + ": settings");
         }
@@ -141,6 +145,7 @@ Recording make_recording(const FramePipeline& pipeline, std::span<const FrameInp
     r.scan = pipeline.config().scan;
     r.slices = pipeline.config().slices;
     r.screen = pipeline.config().screen;
+    r.volume = pipeline.config().volume;
     r.inputs.assign(inputs.begin(), inputs.end());
     for (const FrameRecord& f : pipeline.records()) r.frames.push_back({f.particle_hash, f.hash});
     return r;

@@ -31,6 +31,7 @@ struct Recording {
     ScanSettings scan;  // settings of the method recorded (the others keep their defaults)
     SlicesSettings slices;
     ScreenFluidSettings screen;
+    VolumeSettings volume;
     std::vector<FrameInputs> inputs;    // every simulated frame: warm-up frames first, then recorded ones
     std::vector<RecordedFrame> frames;  // recorded frames (after warm-up)
 };

@@ -7,6 +7,7 @@
 #include "runtime/lib/screen_surface.h"
 #include "runtime/lib/slices_surface.h"
 #include "runtime/lib/sprites_surface.h"
+#include "runtime/lib/volume_surface.h"
 
 namespace rivulet {
 
@@ -14,9 +15,10 @@ SurfaceMethod parse_surface_method(const std::string& name) {
     if (name == "scan") return SurfaceMethod::kScan;
     if (name == "slices") return SurfaceMethod::kSlices;
     if (name == "screen") return SurfaceMethod::kScreen;
+    if (name == "volume") return SurfaceMethod::kVolume;
     if (name == "sprites") return SurfaceMethod::kSprites;
     throw std::invalid_argument("unknown surface method '" + name +
-                                "': use 'scan', 'slices', 'screen' or (diffuse scenes) 'sprites'");
+                                "': use 'scan', 'slices', 'screen', 'volume' or (diffuse scenes) 'sprites'");
 }
 
 const char* surface_method_name(SurfaceMethod m) {
@@ -27,6 +29,8 @@ const char* surface_method_name(SurfaceMethod m) {
             return "slices";
         case SurfaceMethod::kScreen:
             return "screen";
+        case SurfaceMethod::kVolume:
+            return "volume";
         case SurfaceMethod::kSprites:
             return "sprites";
     }
@@ -56,6 +60,11 @@ std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, 
         }
         case SurfaceMethod::kScreen:
             return std::make_unique<ScreenSurface>(config.screen, scene.max_particles, scene.particle_radius);
+        case SurfaceMethod::kVolume: {
+            VolumeSettings s = config.volume;
+            s.radius = scene.particle_radius;
+            return std::make_unique<VolumeSurface>(s, config.raycast, scene.max_particles);
+        }
         case SurfaceMethod::kSprites:
             if (!sim || !sim->diffuse())
                 throw std::invalid_argument("sprites need the scene's diffuse simulation");

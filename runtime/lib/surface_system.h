@@ -13,17 +13,19 @@
 #include "runtime/lib/frame_graph.h"
 #include "systems/render/frame_view.h"
 #include "systems/render/screen_fluid.h"
+#include "systems/render/volume_pass.h"
 #include "systems/scan/scan_settings.h"
 #include "systems/scenes/scene.h"
 #include "systems/slices/slices_settings.h"
+#include "systems/volume/volume_settings.h"
 
 namespace rivulet {
 
 class Renderer;
 
 // kSprites draws a diffuse object's particles (seed 001) and is the only method of diffuse scenes.
-enum class SurfaceMethod { kScan, kSlices, kScreen, kSprites };
-// "scan", "slices", "screen" or "sprites"; throws std::invalid_argument naming them otherwise.
+enum class SurfaceMethod { kScan, kSlices, kScreen, kVolume, kSprites };
+// "scan", "slices", "screen", "volume" or "sprites"; throws std::invalid_argument naming them otherwise.
 SurfaceMethod parse_surface_method(const std::string& name);
 const char* surface_method_name(SurfaceMethod m);
 
@@ -31,7 +33,7 @@ inline constexpr int kFrameSlots = 2;
 
 // What a method made of one frame, for records and reports.
 struct SurfaceStats {
-    std::uint32_t groups = 0;    // scan: cylinders drawn; slices: non-empty blocks
+    std::uint32_t groups = 0;    // scan: cylinders drawn; slices: non-empty blocks; volume: bricks stored
     std::uint32_t isolated = 0;  // scan: particles drawn as spheres
     std::uint64_t triangles = 0;
     std::uint32_t pool_exhausted = 0;  // scan: entries left isolated because every cylinder was in use
@@ -60,6 +62,8 @@ struct SurfaceConfig {
     ScanSettings scan;      // radius and V range are taken from the scene
     SlicesSettings slices;  // radius is taken from the scene
     ScreenFluidSettings screen;
+    VolumeSettings volume;  // radius is taken from the scene
+    VolumeRaycastSettings raycast;
 };
 
 class SceneSimulation;

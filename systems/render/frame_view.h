@@ -5,6 +5,7 @@
 #include <span>
 
 #include "jobs/cylinder_layout.h"
+#include "jobs/density_volume.h"
 #include "jobs/diffuse_particles.h"
 
 namespace rivulet {
@@ -54,6 +55,9 @@ struct FrameView {
     ParticleSpritesView spray;
     HeightFieldView pool;
     DiffuseSpritesView diffuse;
+    // The density volume, raycast as water after the scene (Renderer::set_volume_raycast); nothing is
+    // drawn for it while it stores no bricks.
+    DensityVolumeView volume;
 };
 
 }  // namespace rivulet

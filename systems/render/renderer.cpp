@@ -99,6 +99,7 @@ struct Renderer::Impl {
 
     std::unique_ptr<ScreenFluidPass> screen;
     std::unique_ptr<SpritePass> diffuse;
+    std::unique_ptr<VolumePass> volume;
     CameraDesc camera_desc;  // of the scene, for passes set up after it
     WaterLook water;
     Vec3f light{0, 1, 0};
@@ -221,6 +222,7 @@ struct Renderer::Impl {
         light = key_light(camera);
         camera_desc = camera;
         if (screen) screen->set_camera(camera, light);
+        if (volume) volume->set_camera(camera, light);
         if (diffuse) diffuse->set_camera(camera);
         for (const LitProgram& p : lit) {
             glProgramUniformMatrix4fv(p.id, p.view_proj, 1, GL_FALSE, vp.m);
@@ -261,13 +263,18 @@ struct Renderer::Impl {
 
     void set_environment() {
         const Vec3f h = environment.horizon_color();
-        const float lod =
-            std::max(0.0f, std::log2(static_cast<float>(environment.face_size()) / kSkyFaceSize));
+        const float lod = reflection_lod();
         for (const LitProgram& p : lit) {
             glProgramUniform3f(p.id, p.horizon, h.x, h.y, h.z);
             glProgramUniform1f(p.id, p.reflection_lod, lod);
         }
         if (screen) screen->set_environment(environment.texture());
+        if (volume) volume->set_environment(environment.texture(), lod);
+    }
+
+    // The level the lit water's reflections read (kLitFragment's u_reflection_lod).
+    float reflection_lod() const {
+        return std::max(0.0f, std::log2(static_cast<float>(environment.face_size()) / kSkyFaceSize));
     }
 
     void set_water(const WaterLook& w) {
@@ -278,6 +285,7 @@ struct Renderer::Impl {
             glProgramUniform3f(p.id, p.absorption, w.absorption.x, w.absorption.y, w.absorption.z);
         }
         if (screen) screen->set_water(w);
+        if (volume) volume->set_water(w);
     }
 
     void set_scene(const SceneDesc& scene) {
@@ -354,6 +362,15 @@ struct Renderer::Impl {
         screen->set_camera(camera_desc, light);
         screen->set_water(water);
         screen->set_environment(environment.texture());
+    }
+
+    void set_volume_raycast(const VolumeRaycastSettings& settings) {
+        context.make_current();
+        volume.reset();  // its textures go before the new ones are made
+        volume = std::make_unique<VolumePass>(context.width(), context.height(), settings);
+        volume->set_camera(camera_desc, light);
+        volume->set_water(water);
+        volume->set_environment(environment.texture(), reflection_lod());
     }
 
     void set_diffuse_sprites(std::uint32_t max_sprites) {
@@ -651,6 +668,12 @@ struct Renderer::Impl {
         upload_spheres(frame.sphere_centers, frame.sphere_radius);
         upload_sprites(frame.sprites, frame.sphere_radius);
         mark(&timings.upload);
+        if (frame.volume.stored() > 0 && !volume)
+            bad_frame("a density volume given before set_volume_raycast");
+        if (volume) {
+            volume->upload(frame.volume);
+            mark(&timings.volume_upload);
+        }
         draw_shadow_pass();
         mark(&timings.shadow);
         bind_textures();
@@ -663,6 +686,18 @@ struct Renderer::Impl {
         if (screen) {
             screen->render(frame.sprites, frame.spray, frame.sphere_radius);
             mark(&timings.screen);
+        }
+        if (volume) {
+            // As the mesh methods' water (draw_fluid): inside the tank's glass, across x and z only, so
+            // what splashes over its top still shows.
+            if (clip_fluid) {
+                const Vec3f lo = glass_box.min + tank_offset, hi = glass_box.max + tank_offset;
+                volume->set_clip({lo.x, -kNoClip, lo.z}, {hi.x, kNoClip, hi.z});
+            } else {
+                volume->clear_clip();
+            }
+            volume->draw();
+            mark(&timings.volume);
         }
         draw_glass(glass_front);
         // Last, over everything the scene drew: translucent sprites that write no depth.
@@ -707,6 +742,10 @@ void Renderer::set_screen_fluid(const ScreenFluidSettings& settings) {
     impl_->set_screen_fluid(settings);
 }
 
+void Renderer::set_volume_raycast(const VolumeRaycastSettings& settings) {
+    impl_->set_volume_raycast(settings);
+}
+
 void Renderer::set_diffuse_sprites(std::uint32_t max_sprites) {
     impl_->set_diffuse_sprites(max_sprites);
 }
@@ -718,6 +757,11 @@ void Renderer::render(const FrameView& frame) {
 const ScreenFluidPass& Renderer::screen_fluid() const {
     if (!impl_->screen) throw std::logic_error("Renderer::screen_fluid: no screen-space fluid pass");
     return *impl_->screen;
+}
+
+const VolumePass& Renderer::volume_pass() const {
+    if (!impl_->volume) throw std::logic_error("Renderer::volume_pass: no volume raycast pass");
+    return *impl_->volume;
 }
 
 void Renderer::set_time_passes(bool on) {

@@ -10,6 +10,7 @@
 #include "systems/render/environment_map.h"
 #include "systems/render/frame_view.h"
 #include "systems/render/screen_fluid.h"
+#include "systems/render/volume_pass.h"
 #include "systems/render/water_backdrop.h"
 #include "systems/scenes/scene.h"
 
@@ -27,10 +28,12 @@ struct RenderSettings {
 // each; else zeros). `scene`: ground, solids, sky and the tank's back glass; `water_thickness`: the scene
 // copy and the mesh methods' thickness; `water`: the pool's and the meshes' lit water; `screen`: the
 // screen-space fluid pass (its own parts: ScreenFluidPass::timings); `finish`: the front glass and the
-// wait for the picture; `diffuse`: the diffuse objects' sprites, drawn between those two.
+// wait for the picture; `diffuse`: the diffuse objects' sprites, drawn between those two;
+// `volume_upload`: the density volume's bricks into GL; `volume`: its raycast (VolumePass::timings).
 struct RenderTimings {
     double upload = 0, shadow = 0, scene = 0, water_thickness = 0, water = 0, screen = 0, finish = 0;
     double diffuse = 0;
+    double volume_upload = 0, volume = 0;
 };
 
 class Renderer {
@@ -58,11 +61,15 @@ class Renderer {
     // Sets up the pass that draws frames' diffuse-object sprites (FrameView::diffuse), with room for
     // `max_sprites` a frame. Once per run; a later call with a different size replaces it.
     void set_diffuse_sprites(std::uint32_t max_sprites);
+    // Sets up the pass that raycasts a frame's density volume (FrameView::volume; once per run).
+    void set_volume_raycast(const VolumeRaycastSettings& settings);
 
     // Uploads only the changed ranges of `frame` (rings [vmin, vmax] per group), draws, and finishes.
     void render(const FrameView& frame);
     // The screen-space fluid pass of the last frame (tests); throws when there is none.
     const ScreenFluidPass& screen_fluid() const;
+    // The density volume's pass (tests); throws when there is none.
+    const VolumePass& volume_pass() const;
     // Benchmarks: finish GL after each part of render() and time it (slows the frame).
     void set_time_passes(bool on);
     const RenderTimings& timings() const;

@@ -1,0 +1,86 @@
+#pragma once
+// Building the density volume (jobs/density_volume.h) from particles, as jobs of a frame: the particles'
+// bounds give the grid (plan_density_grid); each particle is listed, by a counting sort, in every brick
+// group of bricks whose samples it can reach (density_bin_count_chunk, chunk_major_prefix,
+// density_bin_scatter_chunk); every brick a particle reaches gets an atlas slot in brick order
+// (density_allocate_bricks); then each group sums its list into its samples and copies them to its stored
+// bricks (density_splat_group). A group gathers rather than particles scattering, its list is in particle
+// order, and every sample's sum is computed by the same formula from the same world-space coordinates, so
+// the volume is the same bytes at any thread count, and the faces two bricks share get the same sums in
+// both (across groups too).
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "jobs/density_volume.h"
+#include "jobs/particle_spans.h"
+
+namespace rivulet {
+
+struct ParticleBounds {
+    float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    bool finite = true;  // false when some coordinate is NaN or infinite
+};
+// Bounds of `p` (non-empty), and whether every coordinate is finite.
+ParticleBounds particle_bounds(ConstPositions p);
+// The union of two chunks' bounds.
+ParticleBounds merge_bounds(const ParticleBounds& a, const ParticleBounds& b);
+
+struct DensityGridRequest {
+    float h = 1;       // kernel support radius, world units
+    float volume = 1;  // V_j
+    float voxel = 0;   // world units; 0: h / 4, grown where the bounds need more than max_dim cells
+    std::uint32_t max_dim = 128;  // cells per axis at most (a multiple of kBrickCells)
+};
+
+// The lattice covering `bounds` plus h on every side, its origin a whole number of voxels so a fixed voxel
+// gives the same sample points in every frame. Throws std::invalid_argument when an explicit voxel would
+// need more than max_dim cells on some axis (naming both) or when the bounds are not finite.
+DensityGrid plan_density_grid(const ParticleBounds& bounds, const DensityGridRequest& request);
+
+// The brick whose cells hold (x, y, z), clamped into the grid.
+std::uint32_t density_brick_of(const DensityGrid& grid, float x, float y, float z);
+
+// Bricks one particle can reach at most (its entries in the bin sort).
+std::uint32_t density_max_bricks_per_particle(const DensityGrid& grid);
+
+// The bin sort lists particles per group of kGroupBricks^3 bricks rather than per brick: a particle
+// reaching several bricks of a group is listed and set up once, and the group sums its samples once
+// (the faces its bricks share included), then copies them out to its stored bricks.
+inline constexpr std::uint32_t kGroupBricks = 2;
+inline constexpr std::uint32_t kGroupEdge = kGroupBricks * kBrickCells + 1;  // samples per group edge
+struct DensityGroups {
+    std::uint32_t gx = 0, gy = 0, gz = 0;
+    std::uint32_t count() const { return gx * gy * gz; }
+};
+DensityGroups density_groups(const DensityGrid& grid);
+
+// Pass 1 of the bin sort, per chunk: counts[g] += 1 for every group g one of the chunk's particles can
+// reach (conservatively), and masks[g] |= the bricks of g (bit (c * 2 + b) * 2 + a for local brick
+// (a, b, c)) it can reach. Both have density_groups(grid).count() entries, zeroed by the caller.
+void density_bin_count_chunk(const DensityGrid& grid, ConstPositions p, std::span<std::uint32_t> counts,
+                             std::span<std::uint8_t> masks);
+// Pass 2, per chunk: each particle's position at the cursor of every group it reaches (cursors from
+// chunk_major_prefix), so a group lists its particles in particle order.
+struct SortedPositionsOut {
+    std::span<float> x, y, z;
+};
+void density_bin_scatter_chunk(const DensityGrid& grid, ConstPositions p, std::span<std::uint32_t> cursors,
+                               const SortedPositionsOut& sorted);
+
+// Serial: slot per brick (brick_slot, grid.bricks()) for every brick some particle reaches (its bit in
+// `masks`, one per group), numbered in brick order, and slot_brick (slot -> brick; slots past its size
+// are counted, not written); `groups_out` gets the groups with a stored brick, in order (it must hold
+// density_groups(grid).count()), and `group_count` their number. Returns the number of bricks to store.
+std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const std::uint8_t> masks,
+                                      std::span<std::int32_t> brick_slot, std::span<std::uint32_t> slot_brick,
+                                      std::span<std::uint32_t> groups_out, std::uint32_t& group_count);
+
+// One group: sums V W_poly6 of the particles it lists (sorted[bin_start[group], bin_start[group + 1])),
+// in order, into its samples, and writes every stored brick of it (brick_slot) to its atlas slot, with
+// its least and greatest samples to slot_min / slot_max.
+void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
+                         std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
+                         std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max);
+
+}  // namespace rivulet

@@ -1,0 +1,65 @@
+#include "runtime/lib/volume_surface.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "runtime/lib/volume_jobs.h"
+#include "systems/render/renderer.h"
+
+namespace rivulet {
+
+VolumeSurface::VolumeSurface(const VolumeSettings& settings, const VolumeRaycastSettings& raycast,
+                             std::size_t max_particles)
+    : builder_(settings, max_particles), raycast_(raycast), max_particles_(max_particles) {
+    if (const std::string problem = raycast.validate(); !problem.empty())
+        throw std::invalid_argument(problem);
+    for (DensityVolume& v : volume_) builder_.prepare(v);
+    for (Staged& s : staged_)
+        s.x.reserve(max_particles), s.y.reserve(max_particles), s.z.reserve(max_particles);
+}
+
+FrameGraph::JobId VolumeSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
+                                          std::function<int()> slot, FrameGraph::JobId after) {
+    const FrameGraph::JobId splat = add_volume_jobs(
+        graph, builder_, positions, [this, slot]() -> DensityVolume& { return volume_[slot()]; }, {after});
+    return graph.parallel(
+        "volume.stage",
+        [positions] {
+            return std::max<std::size_t>((positions().size() + kStageChunk - 1) / kStageChunk, 1);
+        },
+        [this, positions, slot](std::size_t c) {
+            const ConstPositions p = positions();
+            Staged& s = staged_[slot()];
+            const std::size_t n = std::min(p.size(), max_particles_);
+            if (c == 0) s.count = n;
+            const std::size_t begin = std::min(c * kStageChunk, n), end = std::min(begin + kStageChunk, n);
+            std::copy(p.x.begin() + begin, p.x.begin() + end, s.x.data() + begin);
+            std::copy(p.y.begin() + begin, p.y.begin() + end, s.y.data() + begin);
+            std::copy(p.z.begin() + begin, p.z.begin() + end, s.z.data() + begin);
+        },
+        {splat});
+}
+
+SurfaceStats VolumeSurface::stats(int slot) const {
+    SurfaceStats s;
+    s.groups = volume_[slot].stored;
+    return s;
+}
+
+std::uint64_t VolumeSurface::output_hash(int slot) const {
+    return volume_[slot].hash();
+}
+
+void VolumeSurface::prepare_renderer(Renderer& renderer) const {
+    renderer.set_volume_raycast(raycast_);
+}
+
+void VolumeSurface::fill_view(int slot, FrameView& view) const {
+    view.volume = volume_[slot].view();
+    // The Renderer's shadow pass draws these as round points; no screen-space pass is set, so nothing else
+    // draws them.
+    const Staged& s = staged_[slot];
+    view.sprites = {s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)};
+}
+
+}  // namespace rivulet
