@@ -137,6 +137,11 @@ TEST_P(GoldenRecording, ReplaysIdenticallyAtOneAndTwoThreadsAndWithoutAvx2) {
     const std::string path = std::string(RIVULET_SOURCE_DIR) + "/tests/golden/" + name + ".rivrec";
     const bool scan = name.ends_with("_scan");
     for (const char* threads : {"1", "2"}) {
+#if defined(__SANITIZE_THREAD__)
+        // One thread has no race for ThreadSanitizer to find, and the other builds replay it already; the
+        // SPH recording's replay is the longest test of the TSan run.
+        if (*threads == '1') continue;
+#endif
         for (const char* environment : {"", "RIVULET_NO_AVX2=1"}) {
             if (!scan && *environment) continue;
             const test::Result res = test::run_cli("replay " + path + " --threads " + threads, environment);
