@@ -90,6 +90,11 @@ TEST(VolumeCli, BadOptionsAreClearErrors) {
     fails_with("--method volume --radius 0.05 --kernel 0", "--kernel");
     fails_with("--method slices --radius 0.05 --out " + temp_path("x.vdb"), "--method volume");
     fails_with("--method volume --radius 0.05 --level-set --out " + temp_path("x.ply"), "--level-set");
+    const std::string empty = temp_path("empty.xyz");
+    write_text(empty, "# no particles\n");
+    const Result none = run_cli("mesh " + empty + " --method volume --radius 0.05");
+    EXPECT_NE(none.status, 0);
+    EXPECT_NE(none.output.find("empty.xyz"), std::string::npos) << none.output;
     const std::string nan = temp_path("nan.xyz");
     write_text(nan, "0 0 0\nnan 0 0\n0.1 0 0\n");
     const Result r = run_cli("mesh " + nan + " --method volume --radius 0.05");
