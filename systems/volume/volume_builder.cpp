@@ -41,6 +41,7 @@ VolumeBuilder::VolumeBuilder(const VolumeSettings& settings, std::size_t max_par
     : settings_(settings), max_particles_(max_particles) {
     if (const std::string problem = settings.validate(); !problem.empty())
         throw std::invalid_argument(problem);
+    iso_ = settings.iso_value();
     chunk_ = std::max(kMinChunk, (max_particles + kMaxChunks - 1) / kMaxChunks);
     const std::size_t per_axis = settings.max_dim / kBrickCells;
     max_grid_bricks_ = per_axis * per_axis * per_axis;
@@ -60,7 +61,7 @@ void VolumeBuilder::prepare(DensityVolume& out) const {
     out.brick_slot.reserve(max_grid_bricks_);
     const std::size_t slots = std::min<std::size_t>(settings_.max_bricks, max_grid_bricks_);
     out.slot_brick.reserve(slots), out.slot_min.reserve(slots), out.slot_max.reserve(slots);
-    out.iso = settings_.iso_value();
+    out.iso = iso_;
 }
 
 std::size_t VolumeBuilder::chunks(std::size_t n) const {
@@ -84,7 +85,7 @@ void VolumeBuilder::plan(DensityVolume& out, std::size_t n) {
     ParticleBounds b = chunk_bounds_[0];
     for (std::size_t c = 1; c < frame_chunks_; ++c) b = merge_bounds(b, chunk_bounds_[c]);
     out.grid = plan_density_grid(b, settings_.grid_request());
-    out.iso = settings_.iso_value();
+    out.iso = iso_;
     out.stored = 0;
     splat_groups_ = 0;
     frame_groups_ = density_groups(out.grid).count();

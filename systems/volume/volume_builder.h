@@ -55,6 +55,7 @@ class VolumeBuilder {
 
   private:
     VolumeSettings settings_;
+    float iso_ = 0;  // settings_.iso_value(): the calibration sums a lattice, once rather than per frame
     std::size_t max_particles_;
     std::size_t chunk_ = kMinChunk;
     std::size_t max_grid_bricks_ = 0, max_groups_ = 0;
