@@ -6,6 +6,7 @@
 
 #include "jobs/chunk_prefix.h"
 #include "jobs/mesh_hash.h"
+#include "runtime/lib/position_staging.h"
 #include "systems/render/renderer.h"
 
 namespace rivulet {
@@ -36,17 +37,12 @@ ScreenSurface::ScreenSurface(const ScreenFluidSettings& settings, std::size_t ma
 FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                           std::function<int()> slot, FrameGraph::JobId after) {
     const FrameGraph::JobId stage = graph.parallel(
-        "screen.stage",
-        [positions] { return std::max<std::size_t>((positions().size() + kChunk - 1) / kChunk, 1); },
+        "screen.stage", [positions] { return staging_items(positions().size(), kChunk); },
         [this, positions, slot](std::size_t c) {
-            const ConstPositions p = positions();
             Staged& s = staged_[slot()];
-            const std::size_t n = std::min(p.size(), max_particles_);
+            const std::size_t n = stage_positions_chunk(positions(), c, kChunk, max_particles_, s.x.data(),
+                                                        s.y.data(), s.z.data());
             if (c == 0) s.count = n;  // every item writes its own range; the count is the same for all
-            const std::size_t begin = std::min(c * kChunk, n), end = std::min(begin + kChunk, n);
-            std::copy(p.x.begin() + begin, p.x.begin() + end, s.x.data() + begin);
-            std::copy(p.y.begin() + begin, p.y.begin() + end, s.y.data() + begin);
-            std::copy(p.z.begin() + begin, p.z.begin() + end, s.z.data() + begin);
         },
         {after});
     return spray() ? add_spray_jobs(graph, slot, stage) : stage;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "runtime/lib/position_staging.h"
 #include "runtime/lib/volume_jobs.h"
 #include "systems/render/renderer.h"
 
@@ -23,19 +24,12 @@ FrameGraph::JobId VolumeSurface::add_jobs(FrameGraph& graph, std::function<Const
     const FrameGraph::JobId splat = add_volume_jobs(
         graph, builder_, positions, [this, slot]() -> DensityVolume& { return volume_[slot()]; }, {after});
     return graph.parallel(
-        "volume.stage",
-        [positions] {
-            return std::max<std::size_t>((positions().size() + kStageChunk - 1) / kStageChunk, 1);
-        },
+        "volume.stage", [positions] { return staging_items(positions().size(), kStageChunk); },
         [this, positions, slot](std::size_t c) {
-            const ConstPositions p = positions();
             Staged& s = staged_[slot()];
-            const std::size_t n = std::min(p.size(), max_particles_);
+            const std::size_t n = stage_positions_chunk(positions(), c, kStageChunk, max_particles_,
+                                                        s.x.data(), s.y.data(), s.z.data());
             if (c == 0) s.count = n;
-            const std::size_t begin = std::min(c * kStageChunk, n), end = std::min(begin + kStageChunk, n);
-            std::copy(p.x.begin() + begin, p.x.begin() + end, s.x.data() + begin);
-            std::copy(p.y.begin() + begin, p.y.begin() + end, s.y.data() + begin);
-            std::copy(p.z.begin() + begin, p.z.begin() + end, s.z.data() + begin);
         },
         {splat});
 }
