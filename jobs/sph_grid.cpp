@@ -39,7 +39,8 @@ std::uint32_t sph_grid_offsets(std::span<const std::uint32_t> totals, std::span<
 
 void sph_grid_scatter_chunk(const SphParticlesIn& in, std::span<const std::uint32_t> keys,
                             std::span<const std::uint32_t> cell_start, std::span<std::uint32_t> cursors,
-                            const SphSortedOut& out) {
+                            const SphSortedOut& out, std::size_t first) {
+    const bool sources = !out.source.empty();
     for (std::size_t i = 0; i < in.size(); ++i) {
         const std::uint32_t k = keys[i];
         const std::uint32_t e = cell_start[k] + cursors[k]++;
@@ -47,6 +48,7 @@ void sph_grid_scatter_chunk(const SphParticlesIn& in, std::span<const std::uint3
         out.vx[e] = in.vx[i], out.vy[e] = in.vy[i], out.vz[e] = in.vz[i];
         out.id[e] = in.id[i];
         out.key[e] = k;
+        if (sources) out.source[e] = static_cast<std::uint32_t>(first + i);
     }
 }
 

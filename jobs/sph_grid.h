@@ -45,6 +45,7 @@ struct SphParticlesIn {
 struct SphSortedOut {
     std::span<float> x, y, z, vx, vy, vz;
     std::span<std::uint32_t> id, key;
+    std::span<std::uint32_t> source = {};  // optional: index the particle had before the sort
 };
 
 // Pass 1, per chunk: keys[i] = cell of particle i of the chunk; counts[c] = particles of the chunk in cell c.
@@ -64,10 +65,10 @@ void sph_grid_cursors(std::uint32_t cells, std::uint32_t chunks, std::uint32_t c
 std::uint32_t sph_grid_offsets(std::span<const std::uint32_t> totals, std::span<std::uint32_t> cell_start);
 
 // Pass 2, per chunk: copies every particle of the chunk to cell_start[key] + its cursor (advanced in
-// place), with its key.
+// place), with its key (and, when out.source is given, first + its index in the chunk).
 void sph_grid_scatter_chunk(const SphParticlesIn& chunk, std::span<const std::uint32_t> keys,
                             std::span<const std::uint32_t> cell_start, std::span<std::uint32_t> cursors,
-                            const SphSortedOut& out);
+                            const SphSortedOut& out, std::size_t first = 0);
 
 // Calls f(j) for every sorted particle j in the 27 cells around cell `key` (itself included), in a fixed
 // order: z, then y, then the x row (three cells adjacent in sorted order, so one contiguous range).

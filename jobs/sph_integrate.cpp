@@ -67,8 +67,10 @@ float sph_integrate(const SphParticlesIn& in, const SphAccelIn& accel, std::size
     const Vec3f lo = b.tank_min + Vec3f{m, m, m};
     const Vec3f hi = b.tank_max - Vec3f{m, m, m};
     float max_v2 = 0.0f;
+    const bool accelerate = !accel.ax.empty();
     for (std::size_t i = begin; i < end; ++i) {
-        Vec3f v{in.vx[i] + accel.ax[i] * dt, in.vy[i] + accel.ay[i] * dt, in.vz[i] + accel.az[i] * dt};
+        Vec3f v{in.vx[i], in.vy[i], in.vz[i]};
+        if (accelerate) v = v + Vec3f{accel.ax[i], accel.ay[i], accel.az[i]} * dt;
         Vec3f p{in.x[i] + v.x * dt, in.y[i] + v.y * dt, in.z[i] + v.z * dt};
         for (const SphereObstacle& s : b.spheres) sphere_contact(p, v, s, m);
         for (const BoxObstacle& box : b.boxes) box_contact(p, v, box, m);

@@ -29,6 +29,7 @@ struct SphAccelIn {
 };
 
 // Advances sorted particles [begin, end) by dt into `out` (same indices); returns the largest |v|^2.
+// Empty `accel` spans: the velocities are already the new ones (x += v dt only).
 float sph_integrate(const SphParticlesIn& sorted, const SphAccelIn& accel, std::size_t begin, std::size_t end,
                     float dt, const SphBoundary& boundary, const ParticleSpans& out);
 

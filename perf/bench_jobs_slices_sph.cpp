@@ -99,16 +99,18 @@ struct SphFixture {
     ParticleSet set;
     std::unique_ptr<SphSimulation> sim;
 
-    SphFixture() {
+    explicit SphFixture(SphSolver solver) {
+        desc.solver = solver;
         set.reserve(sph_seed_count(desc));
         sim = std::make_unique<SphSimulation>(desc, sph_seed_count(desc));
         sim->seed(set);
         sim->step_serial(set, 0);
         sim->begin_frame(set, 1);
+        if (solver == SphSolver::kDfsph) run(SphSimulation::kSubstep, SphSimulation::kNeighbours);
     }
-    static SphFixture& get() {
-        static SphFixture f;
-        return f;
+    static SphFixture& get(SphSolver solver = SphSolver::kWcsph) {
+        static SphFixture wcsph(SphSolver::kWcsph), dfsph(SphSolver::kDfsph);
+        return solver == SphSolver::kWcsph ? wcsph : dfsph;
     }
     // Runs phases [first, last] over all their chunks, serially.
     void run(std::size_t first, std::size_t last) {
@@ -119,8 +121,9 @@ struct SphFixture {
     }
 };
 
-void sph_phases(benchmark::State& state, std::size_t first, std::size_t last) {
-    auto& f = SphFixture::get();
+void sph_phases(benchmark::State& state, std::size_t first, std::size_t last,
+                SphSolver solver = SphSolver::kWcsph) {
+    auto& f = SphFixture::get(solver);
     for (auto _ : state) {
         f.run(first, last);
         benchmark::ClobberMemory();
@@ -148,6 +151,22 @@ void BM_SphIntegrate(benchmark::State& state) {
     sph_phases(state, SphSimulation::kIntegrate, SphSimulation::kIntegrate);
 }
 BENCHMARK(BM_SphIntegrate)->Unit(benchmark::kMicrosecond);
+
+// DFSPH: the lists (once per substep), a residual and a correction (once each per solver iteration).
+void BM_DfsphNeighbours(benchmark::State& state) {
+    sph_phases(state, SphSimulation::kNeighbours, SphSimulation::kNeighbours, SphSolver::kDfsph);
+}
+BENCHMARK(BM_DfsphNeighbours)->Unit(benchmark::kMicrosecond);
+
+void BM_DfsphResidual(benchmark::State& state) {
+    sph_phases(state, SphSimulation::kDivergence, SphSimulation::kDivergence, SphSolver::kDfsph);
+}
+BENCHMARK(BM_DfsphResidual)->Unit(benchmark::kMicrosecond);
+
+void BM_DfsphCorrect(benchmark::State& state) {
+    sph_phases(state, SphSimulation::kCorrect, SphSimulation::kCorrect, SphSolver::kDfsph);
+}
+BENCHMARK(BM_DfsphCorrect)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

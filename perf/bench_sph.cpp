@@ -1,8 +1,12 @@
-// SPH step time (systems/sim/sph_simulation.h) on the dambreak scene at 1k, 8k, 64k and 256k particles,
-// at 1 and 2 threads: median ms per substep (all phases, each parallel phase over its chunks with
-// tbb::parallel_for in a task_arena of the given width) and median ms per phase. A frame is
-// substeps x this (the substep count is printed: CFL-limited at 60 frames/s).
-//   bench_sph [--quick]      (--quick: 1k and 8k only)
+// SPH simulation speed over a whole dam break (systems/sim/sph_simulation.h): simulated 1/60 s frames per
+// second of wall time, from the release through the surge, the splash against the far wall and after,
+// at each particle count and thread count (each parallel phase over its chunks with tbb::parallel_for in
+// a task_arena of that width). Per row: frames/s over the run and per third of it (release, surge,
+// splash), substeps and solver iterations per frame, the largest density error a substep left, and the
+// share of time in neighbour work (grid sort and lists), solver iterations and the rest.
+//   bench_sph [--quick] [--frames N] [--sizes 8000,24000] [--threads 1,2] [--solver dfsph|wcsph]
+//             [--cfl X]
+// --quick: 8k and 24k, 60 frames. Defaults: 8k, 24k, 64k, 256k; 180 frames (3 s); threads 1 and 2.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
@@ -11,7 +15,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "systems/sim/sph_scenes.h"
@@ -20,40 +26,67 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using rivulet::SphSimulation;
 
-double ms_since(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+double seconds_since(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
+std::vector<long> parse_list(const char* text) {
+    std::vector<long> out;
+    for (const char* p = text; *p;) {
+        char* end = nullptr;
+        out.push_back(std::strtol(p, &end, 10));
+        p = *end == ',' ? end + 1 : end;
+        if (end == p && *p) break;
+    }
+    return out;
 }
 
-struct Result {
-    double step_ms = 0;
-    std::vector<double> phase_ms;
-    int substeps = 0;
-    std::size_t chunks = 0;
+// Where a phase's time goes: 0 neighbours (grid sort, lists or density), 1 solver (iterations or forces),
+// 2 the rest (substep setup, predict, integrate).
+int share_of(std::size_t phase) {
+    switch (phase) {
+        case SphSimulation::kGridCount:
+        case SphSimulation::kGridCursors:
+        case SphSimulation::kGridOffsets:
+        case SphSimulation::kGridScatter:
+        case SphSimulation::kNeighbours:
+        case SphSimulation::kDensity:
+            return 0;
+        case SphSimulation::kDivergence:
+        case SphSimulation::kCorrect:
+        case SphSimulation::kDensityError:
+        case SphSimulation::kForces:
+            return 1;
+        default:
+            return 2;
+    }
+}
+
+struct Row {
+    double seconds = 0;
+    double third_fps[3] = {0, 0, 0};
+    double substeps = 0, divergence = 0, density = 0, max_error = 0;
+    double share[3] = {0, 0, 0};
+    std::size_t particles = 0;
 };
 
-Result run(std::size_t particles, int threads, int samples) {
-    const rivulet::SphDesc desc = rivulet::make_dambreak(particles);
+Row run(const rivulet::SphDesc& desc, int threads, int frames) {
     const std::size_t n = rivulet::sph_seed_count(desc);
-    rivulet::SphSimulation sim(desc, n);
+    SphSimulation sim(desc, n);
     rivulet::ParticleSet ps(n);
     sim.seed(ps);
     tbb::task_arena arena(threads);
-    Result r;
-    r.chunks = sim.chunks();
-    const std::size_t phases = sim.phases().size();
-    std::vector<std::vector<double>> per_phase(phases);
-    std::vector<double> steps;
+    Row r;
+    r.particles = n;
+    double third_seconds[3] = {0, 0, 0};
+    int third_frames[3] = {0, 0, 0};
     arena.execute([&] {
-        r.substeps = sim.begin_frame(ps, 0);
-        for (int s = 0; s < samples + 2; ++s) {  // two warm-up substeps (the first sort is the costly one)
+        for (int f = 0; f < frames; ++f) {
             const auto t0 = Clock::now();
-            for (std::size_t p = 0; p < phases; ++p) {
+            sim.begin_frame(ps, std::uint64_t(f));
+            for (std::size_t p = sim.next_phase(); p != SphSimulation::kPhaseCount; p = sim.next_phase()) {
                 const auto tp = Clock::now();
                 if (sim.phases()[p].parallel) {
                     tbb::parallel_for(
@@ -65,39 +98,72 @@ Result run(std::size_t particles, int threads, int samples) {
                 } else {
                     sim.run_phase(p, 0, ps);
                 }
-                if (s >= 2) per_phase[p].push_back(ms_since(tp));
+                r.share[share_of(p)] += seconds_since(tp);
             }
-            if (s >= 2) steps.push_back(ms_since(t0));
-            // Stay within the frame's substeps: start a new frame when they run out.
-            if ((s + 1) % r.substeps == 0) {
-                sim.end_frame(ps);
-                sim.begin_frame(ps, 1);
-            }
+            sim.end_frame(ps);
+            const double s = seconds_since(t0);
+            r.seconds += s;
+            const int third = std::min(2, 3 * f / frames);
+            third_seconds[third] += s, ++third_frames[third];
+            r.substeps += sim.substeps();
+            r.divergence += sim.divergence_iterations();
+            r.density += sim.density_iterations();
+            r.max_error = std::max(r.max_error, sim.density_error());
         }
     });
-    r.step_ms = median(steps);
-    for (auto& v : per_phase) r.phase_ms.push_back(median(v));
+    for (int t = 0; t < 3; ++t)
+        r.third_fps[t] = third_seconds[t] > 0 ? third_frames[t] / third_seconds[t] : 0;
+    const double total = r.share[0] + r.share[1] + r.share[2];
+    for (double& s : r.share) s = total > 0 ? 100.0 * s / total : 0;
+    r.substeps /= frames, r.divergence /= frames, r.density /= frames;
     return r;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
-    std::vector<std::size_t> sizes{1000, 8000, 64000, 256000};
-    if (quick) sizes.resize(2);
-    std::printf("SPH dambreak, median ms per substep and per phase (Release)\n");
-    std::printf("%9s %7s %7s %8s %10s", "particles", "threads", "chunks", "substeps", "substep_ms");
-    const rivulet::SphSimulation names(rivulet::make_dambreak(100), 1);
-    for (const rivulet::SphPhase& ph : names.phases()) std::printf(" %12s", ph.name + 4);  // without "sph."
-    std::printf("\n");
-    for (std::size_t n : sizes) {
-        const int samples = n >= 200000 ? 5 : n >= 50000 ? 9 : 21;
-        for (int threads : {1, 2}) {
-            const Result r = run(n, threads, samples);
-            std::printf("%9zu %7d %7zu %8d %10.3f", n, threads, r.chunks, r.substeps, r.step_ms);
-            for (double ms : r.phase_ms) std::printf(" %12.3f", ms);
-            std::printf("\n");
+    std::vector<long> sizes{8000, 24000, 64000, 256000}, threads{1, 2};
+    int frames = 180;
+    rivulet::SphSolver solver = rivulet::SphSolver::kDfsph;
+    float cfl = 0;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const bool more = i + 1 < argc;
+        if (a == "--quick") {
+            sizes = {8000, 24000}, frames = 60;
+        } else if (a == "--frames" && more) {
+            frames = std::max(3, std::atoi(argv[++i]));
+        } else if (a == "--sizes" && more) {
+            sizes = parse_list(argv[++i]);
+        } else if (a == "--threads" && more) {
+            threads = parse_list(argv[++i]);
+        } else if (a == "--solver" && more) {
+            solver =
+                std::string(argv[++i]) == "wcsph" ? rivulet::SphSolver::kWcsph : rivulet::SphSolver::kDfsph;
+        } else if (a == "--cfl" && more) {
+            cfl = static_cast<float>(std::atof(argv[++i]));
+        } else {
+            std::fprintf(stderr,
+                         "usage: bench_sph [--quick] [--frames N] [--sizes a,b] [--threads a,b] "
+                         "[--solver dfsph|wcsph] [--cfl X]\n");
+            return 2;
+        }
+    }
+    std::printf("SPH dam break, %s, %d frames of 1/60 s (%.1f s simulated), Release\n",
+                solver == rivulet::SphSolver::kDfsph ? "DFSPH" : "WCSPH", frames, frames / 60.0);
+    std::printf("%9s %7s %8s %8s %8s %8s %8s %8s %8s %9s %6s %6s %6s\n", "particles", "threads", "frames/s",
+                "release", "surge", "splash", "substeps", "div_it", "dens_it", "max_err%", "nbr%", "solve%",
+                "rest%");
+    for (long size : sizes) {
+        rivulet::SphDesc desc = rivulet::make_dambreak(std::size_t(std::max(size, 100L)));
+        desc.solver = solver;
+        if (cfl > 0) desc.cfl = cfl;
+        for (long t : threads) {
+            const Row r = run(desc, int(std::max(t, 1L)), frames);
+            std::printf("%9zu %7ld %8.2f %8.2f %8.2f %8.2f %8.1f %8.1f %8.1f %9.4f %6.1f %6.1f %6.1f\n",
+                        r.particles, t, frames / r.seconds, r.third_fps[0], r.third_fps[1], r.third_fps[2],
+                        r.substeps, r.divergence, r.density, 100.0 * r.max_error, r.share[0], r.share[1],
+                        r.share[2]);
             std::fflush(stdout);
         }
     }

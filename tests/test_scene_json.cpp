@@ -62,6 +62,21 @@ TEST(SceneJson, MistakesNameTheKey) {
     EXPECT_NE(error_of(R"({"max_particles": -5})").find("non-negative"), std::string::npos);
     EXPECT_NE(error_of(R"({"base": "lake"})").find("unknown scene 'lake'"), std::string::npos);
     EXPECT_NE(error_of(R"([1, 2])").find("one JSON object"), std::string::npos);
+    EXPECT_NE(error_of(R"({"base": "dambreak", "sph": {"solver": "pcisph"}})")
+                  .find("test.json.sph.solver: expected \"dfsph\" or \"wcsph\""),
+              std::string::npos);
+}
+
+TEST(SceneJson, SphSceneChoosesItsPressureSolver) {
+    const SceneDesc dambreak = make_builtin_scene("dambreak");
+    EXPECT_EQ(dambreak.sph.solver, SphSolver::kDfsph);  // the built-in SPH scenes' default
+    EXPECT_EQ(scene_to_json(dambreak)["sph"]["solver"], "dfsph");
+    const std::string path = test::temp_path("wcsph.json");
+    test::write_text(path, R"({"base": "dambreak", "sph": {"solver": "wcsph", "max_density_error": 0.5}})");
+    const SceneDesc s = resolve_scene(path);
+    EXPECT_EQ(s.sph.solver, SphSolver::kWcsph);
+    EXPECT_EQ(s.sph.max_density_error, 0.5f);
+    EXPECT_EQ(s.sph.spacing, dambreak.sph.spacing);
 }
 
 TEST(SceneJson, ContainerMotionScriptsASineOffset) {

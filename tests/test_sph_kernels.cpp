@@ -1,4 +1,5 @@
-// SPH kernels (jobs/sph_kernels.h, Müller et al. 2003): each integrates to 1 over its support, gradients
+// SPH kernels (jobs/sph_kernels.h, Müller et al. 2003; the cubic spline of jobs/sph_cubic_kernel.h): each
+// integrates to 1 over its support, gradients
 // and Laplacians match finite differences of the kernels, gradients point towards the neighbour (the
 // kernels fall with distance) and are antisymmetric.
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include <functional>
 #include <numbers>
 
+#include "jobs/sph_cubic_kernel.h"
 #include "jobs/sph_kernels.h"
 
 namespace rivulet {
@@ -35,6 +37,25 @@ TEST(SphKernels, EachIntegratesToOneOverItsSupport) {
         EXPECT_NEAR(poly6, 1.0, 1e-3) << "h " << h;
         EXPECT_NEAR(spiky, 1.0, 1e-3) << "h " << h;
         EXPECT_NEAR(visc, 1.0, 1e-3) << "h " << h;
+    }
+}
+
+// The cubic spline of DFSPH (jobs/sph_cubic_kernel.h): integrates to 1, its gradient is the derivative of
+// W (so the density's predicted change is the change of the density), zero from r = h on.
+TEST(SphKernels, CubicSplineIntegratesToOneAndItsGradientIsItsDerivative) {
+    for (float h : {0.01f, 0.04f, 1.0f}) {
+        const SphCubicKernel k(h);
+        EXPECT_NEAR(ball_integral([&](double r) { return k.w(float(r * r)); }, h), 1.0, 1e-3) << "h " << h;
+        for (double q : {0.1, 0.3, 0.5, 0.7, 0.95}) {
+            const double r = q * h, e = 1e-3 * h;
+            const double fd =
+                (double(k.w(float((r + e) * (r + e)))) - k.w(float((r - e) * (r - e)))) / (2 * e);
+            EXPECT_NEAR(double(k.grad_scale(float(r))) * r, fd, 2e-3 * std::abs(fd) + 1e-6 / (h * h * h * h))
+                << "h " << h << " q " << q;
+        }
+        EXPECT_EQ(k.w(h * h), 0.0f);
+        EXPECT_EQ(k.grad_scale(h), 0.0f);
+        EXPECT_EQ(k.grad_scale(0.0f), 0.0f);
     }
 }
 

@@ -1,6 +1,7 @@
-// SPH fluid (systems/sim/sph_simulation.h): determinism at 1 and 2 threads, any chunk schedule and the
-// serial path; no allocation per frame; fluid at rest in a tank stays at rest; the dam break surge front
-// against Martin & Moyce (1952); the moved container pushes the fluid; the built-in scenes run.
+// SPH fluid (systems/sim/sph_simulation.h), both pressure solvers: determinism at 1 and 2 threads, any
+// chunk schedule and the serial path; no allocation per frame; fluid at rest in a tank stays at rest
+// (WCSPH) and at rest density, in the tank and at its rest height for 10 s (DFSPH); the dam break surge
+// front against Martin & Moyce (1952); the moved container pushes the fluid; the built-in scenes run.
 #include <gtest/gtest.h>
 
 #include <tbb/task_arena.h>
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "jobs/mesh_hash.h"
@@ -44,38 +46,11 @@ float max_speed(const ParticleSet& ps) {
     return std::sqrt(v2);
 }
 
-// A small sloshing tank (container moving, plus a user offset input from frame 100): 200 frames at
-// `threads` threads; returns the hash after every 50 frames.
-std::vector<std::uint64_t> slosh_hashes(int threads, bool serial = false) {
-    const SphDesc desc = make_slosh(300);
-    const std::size_t n = sph_seed_count(desc);
-    SphSimulation sim(desc, n, 8);
-    ParticleSet ps(n);
-    sim.seed(ps);
-    std::vector<std::uint64_t> out;
-    tbb::task_arena arena(threads);
-    for (std::uint64_t f = 0; f < 200; ++f) {
-        if (f == 100) sim.set_container_offset({0.0f, 0.0f, 0.02f});
-        if (serial) {
-            sim.step_serial(ps, f);
-        } else {
-            arena.execute([&] { sim.step_parallel(ps, f); });
-        }
-        if (f % 50 == 49) out.push_back(state_hash(ps));
-    }
-    EXPECT_TRUE(all_finite(ps));
-    return out;
-}
+class SphSolverTest : public ::testing::TestWithParam<SphSolver> {};
 
-TEST(SphSim, TwoHundredFramesIdenticalAtOneAndTwoThreadsAndSerial) {
-    const auto one = slosh_hashes(1);
-    const auto two = slosh_hashes(2);
-    EXPECT_EQ(one, two);
-    EXPECT_EQ(one, slosh_hashes(1, true));
-}
-
-TEST(SphSim, ChunkScheduleDoesNotChangeTheBytes) {
-    const SphDesc desc = make_dambreak(800);
+TEST_P(SphSolverTest, ChunkScheduleDoesNotChangeTheBytes) {
+    SphDesc desc = make_dambreak(800);
+    desc.solver = GetParam();
     const std::size_t n = sph_seed_count(desc);
     SphSimulation a(desc, n, 5), b(desc, n, 5);
     ParticleSet pa(n), pb(n);
@@ -83,16 +58,43 @@ TEST(SphSim, ChunkScheduleDoesNotChangeTheBytes) {
     for (std::uint64_t f = 0; f < 10; ++f) {
         a.step_serial(pa, f);
         // b: every parallel phase's chunks in reverse order.
-        const int substeps = b.begin_frame(pb, f);
-        for (int s = 0; s < substeps; ++s) {
-            for (std::size_t p = 0; p < b.phases().size(); ++p) {
-                const std::size_t chunks = b.phases()[p].parallel ? b.chunks() : 1;
-                for (std::size_t c = chunks; c-- > 0;) b.run_phase(p, c, pb);
-            }
+        b.begin_frame(pb, f);
+        for (std::size_t p = b.next_phase(); p != SphSimulation::kPhaseCount; p = b.next_phase()) {
+            const std::size_t chunks = b.phases()[p].parallel ? b.chunks() : 1;
+            for (std::size_t c = chunks; c-- > 0;) b.run_phase(p, c, pb);
         }
         b.end_frame(pb);
+        ASSERT_EQ(state_hash(pa), state_hash(pb)) << "frame " << f;
     }
-    EXPECT_EQ(state_hash(pa), state_hash(pb));
+}
+
+TEST_P(SphSolverTest, TwoHundredFramesIdenticalAtOneAndTwoThreadsAndSerial) {
+    // The slosh scene's moving tank, plus a user offset from frame 100: 200 frames, hashed every 50
+    // (threads 0: the serial path).
+    const auto hashes = [](int threads) {
+        SphDesc desc = make_slosh(300);
+        desc.solver = GetParam();
+        const std::size_t n = sph_seed_count(desc);
+        SphSimulation sim(desc, n, 8);
+        ParticleSet ps(n);
+        sim.seed(ps);
+        std::vector<std::uint64_t> out;
+        tbb::task_arena arena(std::max(threads, 1));
+        for (std::uint64_t f = 0; f < 200; ++f) {
+            if (f == 100) sim.set_container_offset({0.0f, 0.0f, 0.02f});
+            if (threads == 0) {
+                sim.step_serial(ps, f);
+            } else {
+                arena.execute([&] { sim.step_parallel(ps, f); });
+            }
+            if (f % 50 == 49) out.push_back(state_hash(ps));
+        }
+        EXPECT_TRUE(all_finite(ps));
+        return out;
+    };
+    const auto one = hashes(1);
+    EXPECT_EQ(one, hashes(2));
+    EXPECT_EQ(one, hashes(0));
 }
 
 TEST(SphSim, SeedIsALatticeWithIdsInOrderAndFramesKeepEveryId) {
@@ -146,7 +148,8 @@ TEST(SphSim, RejectsBadDescAndTooManyParticles) {
 }
 
 // A block of water 0.15 x 0.1 x 0.1 m (spacing 1.25 cm, h = 2.5 cm, 768 particles) in a closed tank,
-// released from the lattice: after 2 s of simulated time it must be at rest and at rest density.
+// released from the lattice: after 2 s of simulated time the weakly compressible fluid must be at rest
+// and at rest density.
 TEST(SphSim, FluidAtRestInATankStaysAtRest) {
 #if defined(__SANITIZE_THREAD__)
     // A physics check (hundreds of steps of one small scene): ThreadSanitizer would only watch the SPH
@@ -156,6 +159,7 @@ TEST(SphSim, FluidAtRestInATankStaysAtRest) {
 #endif
     SphDesc desc;
     desc.name = "rest";
+    desc.solver = SphSolver::kWcsph;
     desc.spacing = 0.0125f;
     const float depth = 0.1f;
     desc.container.box = {{0, 0, 0}, {0.15f, 0.3f, 0.1f}};
@@ -207,6 +211,64 @@ TEST(SphSim, FluidAtRestInATankStaysAtRest) {
         vmax, vrms, worst, mean / double(inner), top);
 }
 
+// The same block with the incompressible solver, for 10 s: every frame's density error within the set
+// bound, every particle inside the tank on every frame, and the free surface near the analytic rest
+// height (the column's volume over the tank's floor, 0.1 m): the top particles' centres plus half a
+// spacing, away from the walls, within 4 %. It settles about 3 % low: the top layer, short of neighbours,
+// reads under rest density until it has closed in on the layer below by about 0.3 spacings (the
+// particle-deficiency of any SPH density estimate at a free surface; docs/sph.md).
+TEST(SphSim, DfsphTankHoldsRestDensityAndHeightForTenSeconds) {
+#if defined(__SANITIZE_THREAD__)
+    GTEST_SKIP() << "physics check, no thread coverage of its own";
+#endif
+    SphDesc desc;
+    desc.name = "rest";
+    desc.solver = SphSolver::kDfsph;
+    desc.spacing = 0.0125f;
+    const float depth = 0.1f;
+    desc.container.box = {{0, 0, 0}, {0.15f, 0.3f, 0.1f}};
+    desc.fluid_boxes.push_back({{0, 0, 0}, {0.15f, depth, 0.1f}, {}});
+    const std::size_t n = sph_seed_count(desc);
+    ASSERT_EQ(n, 768u);
+    SphSimulation sim(desc, n, 4);
+    ParticleSet ps(n);
+    sim.seed(ps);
+    const BoxCollider tank = desc.container.box;
+    double worst_error = 0;
+    for (std::uint64_t f = 0; f < 600; ++f) {
+        sim.step_serial(ps, f);
+        ASSERT_LE(sim.density_error(), 0.01 * desc.max_density_error + 1e-6) << "frame " << f;
+        ASSERT_LT(sim.density_iterations(), desc.max_iterations * sim.substeps()) << "frame " << f;
+        worst_error = std::max(worst_error, sim.density_error());
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec3f p{ps.x()[i], ps.y()[i], ps.z()[i]};
+            ASSERT_TRUE(p.x >= tank.min.x && p.x <= tank.max.x && p.y >= tank.min.y && p.y <= tank.max.y &&
+                        p.z >= tank.min.z && p.z <= tank.max.z)
+                << "particle " << ps.id()[i] << " left the tank at frame " << f;
+        }
+    }
+    ASSERT_TRUE(all_finite(ps));
+    // The surface: the mean of the highest particle per column of the lattice, over columns one kernel
+    // radius from the walls.
+    const float d = desc.spacing, h = sim.support();
+    std::vector<float> top(12 * 8, 0.0f);
+    for (std::size_t i = 0; i < n; ++i) {
+        const float x = ps.x()[i], z = ps.z()[i];
+        if (x < h || x > tank.max.x - h || z < h || z > tank.max.z - h) continue;
+        const std::size_t cell = std::size_t(z / d) * 12 + std::size_t(x / d);
+        top[cell] = std::max(top[cell], ps.y()[i]);
+    }
+    double sum = 0;
+    int columns = 0;
+    for (float t : top)
+        if (t > 0) sum += t, ++columns;
+    ASSERT_GT(columns, 10);
+    const double surface = sum / columns + 0.5 * d;
+    EXPECT_NEAR(surface, depth, 0.04 * depth);
+    std::printf("DFSPH rest, 10 s: surface %.4f m (rest height %.4f), worst density error %.4f %%\n", surface,
+                depth, 100.0 * worst_error);
+}
+
 // Martin, J. C. & Moyce, W. J. (1952), "An experimental study of the collapse of liquid columns on a rigid
 // horizontal plane", Phil. Trans. R. Soc. A 244, 312-324, Figure 3, n^2 = 2 (column height 2a), a = 2.25 in;
 // digitised in PySPH, pysph/examples/db_exp_data.py (mm_data_2): surge front Z / a against
@@ -219,10 +281,13 @@ constexpr FrontPoint kMartinMoyce[] = {{1.219, 1.474}, {1.997, 2.292}, {2.547, 2
                                        {4.034, 4.944}, {4.418, 5.881}, {5.091, 6.980}};
 
 // Quasi-2D dam break: column a = 0.1 m wide, 2a high, 16 particles across (spacing 6.25 mm, h = 1.25 cm),
-// 4 particle layers between free-slip side walls (2,048 particles), tank 8a long. The front is the largest
-// x of any particle (the leading edge on the floor), sampled every 5 ms and interpolated linearly in time.
+// 4 particle layers between free-slip side walls (2,048 particles), tank 8a long. The front is the leading
+// edge of the surge on the floor: the 9th largest x of any particle (the leading few are single droplets
+// the incompressible solver throws ahead of the sheet; the photographs show the sheet's edge), sampled
+// every 5 ms and interpolated linearly in time.
+constexpr std::size_t kFrontRank = 8;
 // (At 20 across, 3,200 particles, the errors are within 2 points of these and also pass.)
-TEST(SphSim, DamBreakFrontFollowsMartinMoyce) {
+TEST_P(SphSolverTest, DamBreakFrontFollowsMartinMoyce) {
 #if defined(__SANITIZE_THREAD__)
     // A physics check (hundreds of steps of one small scene): ThreadSanitizer would only watch the SPH
     // jobs' threads again, which TwoHundredFramesIdenticalAtOneAndTwoThreadsAndSerial and
@@ -231,6 +296,7 @@ TEST(SphSim, DamBreakFrontFollowsMartinMoyce) {
 #endif
     const float a = 0.1f;
     SphDesc desc = make_dambreak_slab(a, 16, 4);
+    desc.solver = GetParam();
     desc.container.box.max.x = 8.0f * a;
     desc.dt = 0.005f;
     const std::size_t n = sph_seed_count(desc);
@@ -240,12 +306,14 @@ TEST(SphSim, DamBreakFrontFollowsMartinMoyce) {
     sim.seed(ps);
     const double t_scale = std::sqrt(2.0 * 9.81 / a);  // T = t * t_scale
     std::vector<double> T{0.0}, Z{1.0};
+    std::vector<float> front;
     const double t_end = kMartinMoyce[std::size(kMartinMoyce) - 1].T / t_scale + 0.01;
     for (std::uint64_t f = 0; sim.time() < t_end; ++f) {
         sim.step_serial(ps, f);
-        const auto x = ps.x();
+        front.assign(ps.x().begin(), ps.x().end());
+        std::nth_element(front.begin(), front.begin() + kFrontRank, front.end(), std::greater<float>());
         T.push_back(sim.time() * t_scale);
-        Z.push_back(*std::max_element(x.begin(), x.end()) / a);
+        Z.push_back(front[kFrontRank] / a);
     }
     ASSERT_TRUE(all_finite(ps));
     for (const FrontPoint& p : kMartinMoyce) {
@@ -302,6 +370,11 @@ TEST(SphSim, BuiltInScenesRunAndStayFinite) {
         }
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(SphSim, SphSolverTest, ::testing::Values(SphSolver::kDfsph, SphSolver::kWcsph),
+                         [](const auto& param) {
+                             return std::string(param.param == SphSolver::kDfsph ? "Dfsph" : "Wcsph");
+                         });
 
 }  // namespace
 }  // namespace rivulet

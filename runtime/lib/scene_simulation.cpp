@@ -60,14 +60,14 @@ void SceneSimulation::end_frame() {
     next_frame_ = last_frame_ + 1;
 }
 
-// Every substep runs the phases in order; `run_items(phase, n, item)` runs items [0, n) of a phase.
+// The frame's phases in the order the simulation asks for them (substeps, solver iterations);
+// `run_items(phase, n, item)` runs items [0, n) of a phase.
 template <class RunItems>
 void SceneSimulation::sph_substeps(RunItems&& run_items) {
     const auto phases = sph_->phases();
-    for (int s = 0; s < substeps_; ++s)
-        for (std::size_t p = 0; p < phases.size(); ++p)
-            run_items(p, phases[p].parallel ? sph_->chunks() : std::size_t{1},
-                      [this, p](std::size_t c) { sph_->run_phase(p, c, particles_); });
+    for (std::size_t p = sph_->next_phase(); p != SphSimulation::kPhaseCount; p = sph_->next_phase())
+        run_items(p, phases[p].parallel ? sph_->chunks() : std::size_t{1},
+                  [this, p](std::size_t c) { sph_->run_phase(p, c, particles_); });
 }
 
 FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,

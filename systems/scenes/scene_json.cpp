@@ -62,7 +62,9 @@ void members(SphContainer& c, F&& f) {
 // Gravity, dt and colliders are the scene's fields; the rest is the fluid's (docs/sph.md).
 template <class F>
 void members(SphDesc& d, F&& f) {
-    f("spacing", d.spacing), f("support_ratio", d.support_ratio), f("rest_density", d.rest_density);
+    f("solver", d.solver), f("spacing", d.spacing), f("support_ratio", d.support_ratio);
+    f("rest_density", d.rest_density), f("max_density_error", d.max_density_error);
+    f("max_divergence_error", d.max_divergence_error), f("max_iterations", d.max_iterations);
     f("sound_speed", d.sound_speed), f("gamma", d.gamma), f("viscosity", d.viscosity);
     f("artificial_viscosity", d.artificial_viscosity), f("surface_tension", d.surface_tension);
     f("tension", d.tension), f("tension_threshold", d.tension_threshold), f("container", d.container);
@@ -105,6 +107,19 @@ void members(DiffuseDesc& d, F&& f) {
     f("defaults", d.defaults), f("regions", d.regions), f("colliders", d.colliders),
         f("dissolve", d.dissolve);
     f("additive", d.additive);
+}
+
+void read(const json& j, SphSolver& out, const std::string& where) {
+    if (j == "dfsph") {
+        out = SphSolver::kDfsph;
+    } else if (j == "wcsph") {
+        out = SphSolver::kWcsph;
+    } else {
+        fail(where, "expected \"dfsph\" or \"wcsph\"");
+    }
+}
+json write(SphSolver s) {
+    return s == SphSolver::kDfsph ? "dfsph" : "wcsph";
 }
 
 // The simulation kind by name.

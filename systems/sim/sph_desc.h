@@ -32,8 +32,15 @@ struct SphContainer {
     float frequency = 0;  // Hz
 };
 
+// The pressure solver. DFSPH (divergence-free SPH, Bender & Koschier 2015/2017) keeps the fluid
+// incompressible to a set density error with substeps limited by the particles' speed only; WCSPH (Tait
+// equation of state, Müller 2003 forces) is the weakly compressible solver whose substeps are limited by
+// the numerical sound speed.
+enum class SphSolver { kDfsph, kWcsph };
+
 struct SphDesc {
     std::string name = "sph";
+    SphSolver solver = SphSolver::kDfsph;
     // Resolution: lattice spacing of the initial fluid and kernel support radius h = support_ratio * spacing.
     float spacing = 0.02f;
     float support_ratio = 2.0f;
@@ -63,9 +70,17 @@ struct SphDesc {
     // Initial fluid.
     std::vector<SphFluidBox> fluid_boxes;
     std::vector<SphFluidSphere> fluid_spheres;
+    // DFSPH: the average density error each substep's pressure solve leaves (percent of rest density),
+    // and the average density change per substep its divergence solve leaves (percent); at most
+    // max_iterations iterations each.
+    float max_density_error = 0.1f;
+    float max_divergence_error = 0.1f;
+    int max_iterations = 100;
     // Time: one frame is `dt`, split into substeps of equal length by the CFL condition
-    // dt_sub <= cfl * h / (c0 + v_max), the force condition 0.25 sqrt(h / a_max) and the viscous
-    // condition 0.125 h^2 rho0 / mu, at most max_substeps. Simulated time always advances by dt per
+    // (WCSPH: dt_sub <= cfl * h / (c0 + v_max), the force condition 0.25 sqrt(h / a_max); DFSPH:
+    // dt_sub <= cfl * spacing / v_max, v_max including one frame of gravity and the walls' speed) and the
+    // viscous condition 0.125 h^2 rho0 / mu, at most max_substeps. The WCSPH-only keys (sound_speed,
+    // gamma, artificial_viscosity, tension) are ignored by DFSPH. Simulated time always advances by dt per
     // frame: if max_substeps is too small the substeps exceed those limits and the fluid can blow up.
     float dt = 1.0f / 60.0f;
     float cfl = 0.4f;

@@ -138,6 +138,15 @@ std::size_t sph_seed_count(const SphDesc& desc) {
 
 namespace {
 
+// Pairs first reserved per particle for the DFSPH lists: a particle inside the fluid at rest has 26 to 32
+// neighbours at support 2 spacings; the lists grow (once) where that is not enough.
+constexpr std::uint64_t kListPairs = 40;
+// The density error a substep starts with is removed over at least this time (s).
+constexpr float kDensityCatchUp = 0.004f;
+// Share of the last substep's summed stiffness each solve starts from (1 overshoots: the stiffness of a
+// substep includes its own error's correction, which the next one does not need again).
+constexpr float kWarmStart = 0.8f;
+
 std::size_t default_chunks(std::size_t max_particles) {
     return std::clamp<std::size_t>((max_particles + 4095) / 4096, 1, 32);
 }
@@ -170,8 +179,10 @@ std::string sph_desc_problem(const SphDesc& d, std::size_t max_particles) {
           range("sph.artificial_viscosity", d.artificial_viscosity, 0, kHuge),
           range("sph.tension", d.tension, 0, kHuge),
           range("sph.tension_threshold", d.tension_threshold, 0, kHuge), range("dt", d.dt, 0, 1, true),
-          range("sph.cfl", d.cfl, 0, 10, true),
-          range("sph.max_substeps", d.max_substeps, 1, kMaxSphSubsteps)})
+          range("sph.cfl", d.cfl, 0, 10, true), range("sph.max_substeps", d.max_substeps, 1, kMaxSphSubsteps),
+          range("sph.max_density_error", d.max_density_error, 0, 100, true),
+          range("sph.max_divergence_error", d.max_divergence_error, 0, 100, true),
+          range("sph.max_iterations", d.max_iterations, 1, 10000)})
         if (!problem.empty()) return problem;
     const BoxCollider& box = d.container.box;
     if (!finite(box.min) || !finite(box.max) || !(box.max.x > box.min.x) || !(box.max.y > box.min.y) ||
@@ -219,8 +230,10 @@ std::string sph_desc_problem(const SphDesc& d, std::size_t max_particles) {
 std::uint64_t sph_buffer_bytes(std::uint64_t cells, std::size_t max_particles) {
     const std::uint64_t n = std::max<std::size_t>(max_particles, 1);
     // 11 float columns, ids, sorted keys, store-order keys; counts and cursors per chunk and cell; starts
-    // and totals per cell.
-    return n * 14 * 4 + (2 * default_chunks(max_particles) + 2) * cells * 4;
+    // and totals per cell. DFSPH: 2 list indices and 7 floats per particle, and the lists as first
+    // reserved (kListPairs pairs per particle).
+    return n * 14 * 4 + (2 * default_chunks(max_particles) + 2) * cells * 4 +
+           n * (9 * 4 + kListPairs * sizeof(DfsphPair));
 }
 
 SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std::size_t chunks)
@@ -254,8 +267,27 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
     for (const BoxCollider& b : desc.boxes) boxes_.push_back({b.min, b.max});
     boundary_.spheres = spheres_;
     boundary_.boxes = boxes_;
-    boundary_.margin = 0.5f * d;
+    // WCSPH keeps particles half a spacing from every surface. DFSPH's walls hold the fluid by its density
+    // (the wall's share B), and a particle stopped short of where the solver moved it breaks the density
+    // the solver predicted, so there the contact only catches particles that reach the wall.
+    boundary_.margin = (desc.solver == SphSolver::kDfsph ? 0.1f : 0.5f) * d;
     walls_.enabled = desc.wall_pressure;
+
+    cubic_ = SphCubicKernel(h);
+    volume_ = dfsph_lattice_volume(cubic_, d);
+    wall_table_ = DfsphWallTable(cubic_, volume_, d);
+    if (desc.solver == SphSolver::kDfsph) fluid_.mass = desc.rest_density * volume_;
+    {
+        const int reach = static_cast<int>(std::ceil(h / d));
+        int full = 0;
+        for (int z = -reach; z <= reach; ++z)
+            for (int y = -reach; y <= reach; ++y)
+                for (int x = -reach; x <= reach; ++x) {
+                    const float r2 = float(x * x + y * y + z * z) * d * d;
+                    if (r2 > 0.0f && r2 < cubic_.h2) ++full;
+                }
+        full_neighbours_ = static_cast<float>(full);
+    }
 
     const std::size_t n = std::max<std::size_t>(max_particles, 1);
     keys_.reserve(n);
@@ -268,7 +300,18 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
     skey_.reserve(n);
     chunk_a2_.reserve(chunks_);
     chunk_v2_.reserve(chunks_);
-    for (std::size_t c = 0; c < chunks_; ++c) chunk_a2_[c] = 0, chunk_v2_[c] = 0;
+    chunk_error_.reserve(chunks_);
+    for (std::size_t c = 0; c < chunks_; ++c) chunk_a2_[c] = 0, chunk_v2_[c] = 0, chunk_error_[c] = 0;
+    if (desc.solver == SphSolver::kDfsph) {
+        for (auto* a : {&pair_begin_, &pair_end_}) a->reserve(n);
+        for (auto* a : {&ratio_, &factor_, &k_, &wall_gx_, &wall_gy_, &wall_gz_, &support_, &k_div_sum_,
+                        &k_den_sum_, &k_div_last_, &k_den_last_})
+            a->reserve(n);
+        source_.reserve(n);
+        lists_.resize(chunks_);
+        const std::size_t per_chunk = n / chunks_ + 1;
+        for (DfsphChunkLists& l : lists_) l.pairs.reserve(per_chunk * kListPairs);
+    }
 }
 
 Vec3f SphSimulation::scripted_offset(double t) const {
@@ -297,6 +340,10 @@ void SphSimulation::seed(ParticleSet& ps) {
     offset_begin_ = offset_end_ = offset_now_ = scripted_offset(0.0);
     for (std::size_t c = 0; c < chunks_; ++c) chunk_a2_[c] = 0, chunk_v2_[c] = 0;
     for (std::size_t i = 0; i < n_; ++i) rho_[i] = desc_.rest_density, p_[i] = 0;
+    last_phase_ = kPhaseCount;
+    divergence_iterations_ = density_iterations_ = 0;
+    density_error_ = 0;
+    dt_last_ = 0;
 }
 
 int SphSimulation::begin_frame(ParticleSet& ps, std::uint64_t frame) {
@@ -305,24 +352,111 @@ int SphSimulation::begin_frame(ParticleSet& ps, std::uint64_t frame) {
     offset_begin_ = offset_now_;
     offset_end_ = scripted_offset(double(frame + 1) * frame_dt);
 
-    // Step limits from the current state: speed (CFL on c0 + |v|max), acceleration of the last substep,
-    // viscosity.
+    // Step limits from the current state: speed (WCSPH: CFL on c0 + |v|max; DFSPH: on |v|max plus a frame
+    // of gravity), acceleration of the last substep (WCSPH), viscosity.
     float v2 = 0;
     const auto vx = ps.vx(), vy = ps.vy(), vz = ps.vz();
     for (std::size_t i = 0; i < n_; ++i) v2 = std::max(v2, vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]);
     const Vec3f wall_v = (offset_end_ - offset_begin_) * static_cast<float>(1.0 / frame_dt);
     const double vmax = std::sqrt(double(v2)) + double(length(wall_v));
-    float a2 = dot(desc_.gravity, desc_.gravity);
-    for (std::size_t c = 0; c < chunks_; ++c) a2 = std::max(a2, chunk_a2_[c]);
     const double h = fluid_.kernels.h;
-    double limit = double(desc_.cfl) * h / (double(desc_.sound_speed) + vmax);
-    if (a2 > 0) limit = std::min(limit, 0.25 * std::sqrt(h / std::sqrt(double(a2))));
+    double limit = frame_dt;
+    if (desc_.solver == SphSolver::kDfsph) {
+        // The pressure solve predicts density to first order in the step: a step also keeps the
+        // displacement gravity alone gives (g dt^2) under 5 % of the spacing.
+        const double g = double(length(desc_.gravity)), d = desc_.spacing;
+        const double reach = vmax + g * frame_dt;
+        if (reach > 0) limit = double(desc_.cfl) * d / reach;
+        if (g > 0) limit = std::min(limit, std::sqrt(0.05 * d / g));
+    } else {
+        float a2 = dot(desc_.gravity, desc_.gravity);
+        for (std::size_t c = 0; c < chunks_; ++c) a2 = std::max(a2, chunk_a2_[c]);
+        limit = double(desc_.cfl) * h / (double(desc_.sound_speed) + vmax);
+        if (a2 > 0) limit = std::min(limit, 0.25 * std::sqrt(h / std::sqrt(double(a2))));
+    }
     if (desc_.viscosity > 0) limit = std::min(limit, 0.125 * h * h * desc_.rest_density / desc_.viscosity);
     const double wanted = std::ceil(frame_dt / limit - 1e-9);
     substeps_ = static_cast<int>(std::clamp(wanted, 1.0, double(desc_.max_substeps)));
     dt_sub_ = static_cast<float>(frame_dt / substeps_);
     substep_ = 0;
+    last_phase_ = kPhaseCount;
+    divergence_iterations_ = density_iterations_ = 0;
+    density_error_ = 0;
     return substeps_;
+}
+
+bool SphSimulation::solve_done(float max_error_percent) {
+    double sum = 0;
+    for (std::size_t c = 0; c < chunks_; ++c) sum += chunk_error_[c];
+    const double average = n_ > 0 ? sum / double(n_) : 0.0;
+    const bool done = average <= 0.01 * double(max_error_percent) || iterations_ >= desc_.max_iterations;
+    if (done && solve_ == Solve::kDensity) density_error_ = std::max(density_error_, average);
+    return done;
+}
+
+std::size_t SphSimulation::next_phase() {
+    const bool dfsph = desc_.solver == SphSolver::kDfsph;
+    std::size_t next = kPhaseCount;
+    switch (last_phase_) {
+        case kIntegrate:
+            if (dfsph) {  // this substep's sums are the next one's warm start
+                std::swap(k_div_sum_, k_div_last_);
+                std::swap(k_den_sum_, k_den_last_);
+                dt_last_ = dt_sub_;
+            }
+            next = substep_ < substeps_ ? kSubstep : kPhaseCount;
+            break;
+        case kPhaseCount:
+            next = substep_ < substeps_ ? kSubstep : kPhaseCount;
+            break;
+        case kGridScatter:
+            next = dfsph ? kNeighbours : kDensity;
+            break;
+        case kNeighbours:
+            solve_ = Solve::kDivergence, iterations_ = 0, warm_ = dt_last_ > 0.0f;
+            next = warm_ ? kCorrect : kDivergence;
+            break;
+        case kDivergence:
+            next = solve_done(desc_.max_divergence_error) ? kPredict : kCorrect;
+            break;
+        case kCorrect:
+            if (warm_) {
+                warm_ = false;
+            } else {
+                ++iterations_;
+                ++(solve_ == Solve::kDivergence ? divergence_iterations_ : density_iterations_);
+            }
+            next = solve_ == Solve::kDivergence ? kDivergence : kDensityError;
+            break;
+        case kPredict:
+            solve_ = Solve::kDensity, iterations_ = 0, warm_ = dt_last_ > 0.0f;
+            next = warm_ ? kCorrect : kDensityError;
+            break;
+        case kDensityError:
+            next = solve_done(desc_.max_density_error) ? kIntegrate : kCorrect;
+            break;
+        default:  // the fixed sequences: substep, the grid phases, WCSPH's density and forces
+            next = last_phase_ + 1;
+            break;
+    }
+    last_phase_ = next;
+    return next;
+}
+
+DfsphContext SphSimulation::dfsph_context() const {
+    DfsphContext c{sx_.span(n_),
+                   sy_.span(n_),
+                   sz_.span(n_),
+                   lists_,
+                   pair_begin_.span(n_),
+                   pair_end_.span(n_),
+                   wall_gx_.span(n_),
+                   wall_gy_.span(n_),
+                   wall_gz_.span(n_),
+                   support_.span(n_),
+                   {walls_.velocity[0], walls_.velocity[1], walls_.velocity[2]},
+                   0.75f * full_neighbours_};
+    return c;
 }
 
 SphNeighbourhood SphSimulation::neighbourhood() const {
@@ -377,10 +511,13 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
                                     ps.z().subspan(b, e - b),  ps.vx().subspan(b, e - b),
                                     ps.vy().subspan(b, e - b), ps.vz().subspan(b, e - b),
                                     ps.id().subspan(b, e - b)};
-            const SphSortedOut out{sx_.span(n_),  sy_.span(n_),  sz_.span(n_),  svx_.span(n_),
-                                   svy_.span(n_), svz_.span(n_), sid_.span(n_), skey_.span(n_)};
+            const bool dfsph = desc_.solver == SphSolver::kDfsph;
+            const SphSortedOut out{
+                sx_.span(n_),  sy_.span(n_),   sz_.span(n_),
+                svx_.span(n_), svy_.span(n_),  svz_.span(n_),
+                sid_.span(n_), skey_.span(n_), dfsph ? source_.span(n_) : std::span<std::uint32_t>{}};
             sph_grid_scatter_chunk(in, keys_.span(n_).subspan(b, e - b), cell_start_.span(cells + 1),
-                                   cursors_.span(chunks_ * cells).subspan(chunk * cells, cells), out);
+                                   cursors_.span(chunks_ * cells).subspan(chunk * cells, cells), out, b);
             break;
         }
         case kDensity:
@@ -394,12 +531,65 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
             break;
         }
         case kIntegrate: {
+            if (desc_.solver == SphSolver::kDfsph) {  // v* (ax_, ay_, az_) is the new velocity
+                const SphParticlesIn in{sx_.span(n_), sy_.span(n_), sz_.span(n_), ax_.span(n_),
+                                        ay_.span(n_), az_.span(n_), sid_.span(n_)};
+                chunk_v2_[chunk] = sph_integrate(in, {}, b, e, dt_sub_, boundary_, ps.spans());
+                break;
+            }
             const SphParticlesIn in{sx_.span(n_),  sy_.span(n_),  sz_.span(n_), svx_.span(n_),
                                     svy_.span(n_), svz_.span(n_), sid_.span(n_)};
             chunk_v2_[chunk] = sph_integrate(in, {ax_.span(n_), ay_.span(n_), az_.span(n_)}, b, e, dt_sub_,
                                              boundary_, ps.spans());
             break;
         }
+        case kNeighbours: {
+            const DfsphParticleOut out{pair_begin_.span(n_), pair_end_.span(n_), ratio_.span(n_),
+                                       factor_.span(n_),     wall_gx_.span(n_),  wall_gy_.span(n_),
+                                       wall_gz_.span(n_),    support_.span(n_)};
+            dfsph_build_lists(neighbourhood(), cubic_, volume_, walls_, wall_table_, full_neighbours_, b, e,
+                              lists_[chunk], out);
+            const float warm = dt_last_ > 0.0f ? kWarmStart * dt_sub_ / dt_last_ : 0.0f;
+            for (std::size_t i = b; i < e; ++i) {
+                rho_[i] = desc_.rest_density * ratio_[i];
+                k_[i] = warm * k_div_last_[source_[i]];
+                k_div_sum_[i] = 0.0f;
+            }
+            break;
+        }
+        case kDivergence:
+            chunk_error_[chunk] =
+                dfsph_residual(dfsph_context(), chunk, b, e, DfsphResidual::kDivergence, dt_sub_,
+                               svx_.span(n_), svy_.span(n_), svz_.span(n_), ratio_.span(n_), factor_.span(n_),
+                               k_div_sum_.span(n_), k_.span(n_));
+            break;
+        case kCorrect: {
+            float* sum = solve_ == Solve::kDivergence ? k_div_sum_.data() : k_den_sum_.data();
+            for (std::size_t i = b; i < e; ++i) sum[i] += k_[i];
+            if (solve_ == Solve::kDivergence) {
+                dfsph_correct(dfsph_context(), chunk, b, e, k_.span(n_),
+                              {svx_.span(n_), svy_.span(n_), svz_.span(n_)});
+            } else {
+                dfsph_correct(dfsph_context(), chunk, b, e, k_.span(n_),
+                              {ax_.span(n_), ay_.span(n_), az_.span(n_)});
+            }
+            break;
+        }
+        case kPredict: {
+            const float g[3] = {fluid_.gx, fluid_.gy, fluid_.gz};
+            chunk_v2_[chunk] = dfsph_predict(
+                dfsph_context(), chunk, b, e, dt_sub_, desc_.viscosity / desc_.rest_density, cubic_.h, g,
+                svx_.span(n_), svy_.span(n_), svz_.span(n_), {ax_.span(n_), ay_.span(n_), az_.span(n_)});
+            const float warm = dt_last_ > 0.0f ? kWarmStart * dt_sub_ / dt_last_ : 0.0f;
+            for (std::size_t i = b; i < e; ++i) k_[i] = warm * k_den_last_[source_[i]], k_den_sum_[i] = 0.0f;
+            break;
+        }
+        case kDensityError:
+            chunk_error_[chunk] =
+                dfsph_residual(dfsph_context(), chunk, b, e, DfsphResidual::kDensity, dt_sub_, ax_.span(n_),
+                               ay_.span(n_), az_.span(n_), ratio_.span(n_), factor_.span(n_),
+                               k_den_sum_.span(n_), k_.span(n_), std::min(1.0f, dt_sub_ / kDensityCatchUp));
+            break;
         default:
             throw std::out_of_range("SphSimulation::run_phase: no such phase");
     }
@@ -410,31 +600,27 @@ void SphSimulation::end_frame(ParticleSet&) {
 }
 
 void SphSimulation::step_serial(ParticleSet& ps, std::uint64_t frame) {
-    const int substeps = begin_frame(ps, frame);
-    for (int s = 0; s < substeps; ++s) {
-        for (std::size_t p = 0; p < kPhaseCount; ++p) {
-            const std::size_t n = kPhases[p].parallel ? chunks_ : 1;
-            for (std::size_t c = 0; c < n; ++c) run_phase(p, c, ps);
-        }
+    begin_frame(ps, frame);
+    for (std::size_t p = next_phase(); p != kPhaseCount; p = next_phase()) {
+        const std::size_t n = kPhases[p].parallel ? chunks_ : 1;
+        for (std::size_t c = 0; c < n; ++c) run_phase(p, c, ps);
     }
     end_frame(ps);
 }
 
 void SphSimulation::step_parallel(ParticleSet& ps, std::uint64_t frame) {
-    const int substeps = begin_frame(ps, frame);
-    for (int s = 0; s < substeps; ++s) {
-        for (std::size_t p = 0; p < kPhaseCount; ++p) {
-            if (!kPhases[p].parallel) {
-                run_phase(p, 0, ps);
-                continue;
-            }
-            tbb::parallel_for(
-                tbb::blocked_range<std::size_t>(0, chunks_, 1),
-                [&](const tbb::blocked_range<std::size_t>& r) {
-                    for (std::size_t c = r.begin(); c != r.end(); ++c) run_phase(p, c, ps);
-                },
-                tbb::simple_partitioner());
+    begin_frame(ps, frame);
+    for (std::size_t p = next_phase(); p != kPhaseCount; p = next_phase()) {
+        if (!kPhases[p].parallel) {
+            run_phase(p, 0, ps);
+            continue;
         }
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, chunks_, 1),
+            [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t c = r.begin(); c != r.end(); ++c) run_phase(p, c, ps);
+            },
+            tbb::simple_partitioner());
     }
     end_frame(ps);
 }

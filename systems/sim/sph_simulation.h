@@ -1,14 +1,20 @@
 #pragma once
-// SPH fluid (Müller, Charypar & Gross 2003; seed 002 §III) as explicit phases the frame graph schedules.
+// SPH fluid (Müller, Charypar & Gross 2003; seed 002 §III) as explicit phases the frame graph schedules,
+// with two pressure solvers (SphDesc::solver): DFSPH (Bender & Koschier 2015/2017), incompressible at
+// large time steps, and WCSPH (Tait), weakly compressible.
 //
 // One frame:
-//   int substeps = begin_frame(ps, frame);                      // serial
-//   for s in [0, substeps):
-//     for p in [0, phases().size()):
+//   begin_frame(ps, frame);                                     // serial
+//   for (p = next_phase(); p != kPhaseCount; p = next_phase())  // next_phase: serial, between phases
 //       phases()[p].parallel ? run_phase(p, c, ps) for every c in [0, chunks()), any order, any thread
 //                            : run_phase(p, 0, ps)
-//       (every chunk of phase p finishes before phase p + 1 starts)
+//       (every chunk of phase p finishes before next_phase is asked again)
 //   end_frame(ps);                                              // serial
+// A WCSPH substep is substep, grid_count, grid_cursors, grid_offsets, grid_scatter, density, forces,
+// integrate. A DFSPH substep is substep, the four grid phases, neighbours, then the divergence solve
+// (divergence, then correct + divergence until its error is small), predict, the density solve
+// (density_error, then correct + density_error until small) and integrate: next_phase decides the
+// iterations from the chunks' error sums, added in chunk order.
 //
 // chunks() is fixed at construction (from max_particles), never from the thread count; every parallel
 // phase writes only its chunk's slots and every sum runs in a fixed neighbour order, so the bytes after a
@@ -23,6 +29,8 @@
 #include <vector>
 
 #include "jobs/ballistic_step.h"
+#include "jobs/dfsph_lists.h"
+#include "jobs/dfsph_solve.h"
 #include "jobs/sph_density.h"
 #include "jobs/sph_forces.h"
 #include "jobs/sph_grid.h"
@@ -55,14 +63,19 @@ struct SphPhase {
 class SphSimulation {
   public:
     enum Phase : std::size_t {
-        kSubstep = 0,  // serial: container pose and grid placement for this substep
-        kGridCount,    // parallel: cell keys, per-chunk cell counts
-        kGridCursors,  // parallel (over cell ranges): per-chunk cursors within each cell, cell totals
-        kGridOffsets,  // serial: cell ranges (prefix sum of the totals)
-        kGridScatter,  // parallel: particles copied to cell order
-        kDensity,      // parallel: density and pressure
-        kForces,       // parallel: accelerations
-        kIntegrate,    // parallel: velocities, positions, boundaries; written back into the ParticleSet
+        kSubstep = 0,   // serial: container pose and grid placement for this substep
+        kGridCount,     // parallel: cell keys, per-chunk cell counts
+        kGridCursors,   // parallel (over cell ranges): per-chunk cursors within each cell, cell totals
+        kGridOffsets,   // serial: cell ranges (prefix sum of the totals)
+        kGridScatter,   // parallel: particles copied to cell order
+        kDensity,       // parallel: density and pressure
+        kForces,        // parallel: accelerations
+        kIntegrate,     // parallel: velocities, positions, boundaries; written back into the ParticleSet
+        kNeighbours,    // DFSPH, parallel: neighbour lists, density ratio, factor
+        kDivergence,    // DFSPH, parallel: divergence solve residual
+        kCorrect,       // DFSPH, parallel: velocity correction of either solve
+        kPredict,       // DFSPH, parallel: gravity and viscosity
+        kDensityError,  // DFSPH, parallel: density solve residual
         kPhaseCount
     };
 
@@ -77,6 +90,8 @@ class SphSimulation {
 
     // Serial: places the container for this frame and picks the substep count (CFL-limited, <= max).
     int begin_frame(ParticleSet& ps, std::uint64_t frame);
+    // Serial: the phase to run next, kPhaseCount when the frame's substeps are done.
+    std::size_t next_phase();
     std::span<const SphPhase> phases() const { return kPhases; }
     std::size_t chunks() const { return chunks_; }
     void run_phase(std::size_t phase, std::size_t chunk, ParticleSet& ps);
@@ -95,6 +110,11 @@ class SphSimulation {
     float support() const { return fluid_.kernels.h; }
     const SphFluidParams& fluid() const { return fluid_; }
     int substeps() const { return substeps_; }
+    // DFSPH, over the last frame: solver iterations (velocity corrections) summed over its substeps, and
+    // the largest average density error (fraction of rest density) a substep's pressure solve left.
+    int divergence_iterations() const { return divergence_iterations_; }
+    int density_iterations() const { return density_iterations_; }
+    double density_error() const { return density_error_; }
     float substep_dt() const { return dt_sub_; }
     double time() const { return time_; }
     // Per particle index of the ParticleSet after a frame: density and pressure at the start of the
@@ -110,11 +130,19 @@ class SphSimulation {
                                                                 {"sph.grid_scatter", true},
                                                                 {"sph.density", true},
                                                                 {"sph.forces", true},
-                                                                {"sph.integrate", true}}};
+                                                                {"sph.integrate", true},
+                                                                {"sph.neighbours", true},
+                                                                {"sph.divergence", true},
+                                                                {"sph.correct", true},
+                                                                {"sph.predict", true},
+                                                                {"sph.density_error", true}}};
+    enum class Solve { kDivergence, kDensity };
 
     std::size_t chunk_begin(std::size_t c) const { return c * n_ / chunks_; }
     Vec3f scripted_offset(double t) const;
     SphNeighbourhood neighbourhood() const;
+    DfsphContext dfsph_context() const;
+    bool solve_done(float max_error_percent);
 
     SphDesc desc_;
     SphFluidParams fluid_;
@@ -132,6 +160,12 @@ class SphSimulation {
     int substeps_ = 1;
     int substep_ = 0;
     float dt_sub_ = 0;
+    std::size_t last_phase_ = kPhaseCount;
+    Solve solve_ = Solve::kDivergence;
+    bool warm_ = false;  // the next kCorrect applies the warm start
+    int iterations_ = 0;
+    int divergence_iterations_ = 0, density_iterations_ = 0;
+    double density_error_ = 0;
     Vec3f user_offset_;
     Vec3f offset_begin_, offset_end_, offset_now_;
 
@@ -144,6 +178,22 @@ class SphSimulation {
     AlignedArray<std::uint32_t> sid_, skey_;
     AlignedArray<float> rho_, p_, ax_, ay_, az_;  // per sorted particle
     AlignedArray<float> chunk_a2_, chunk_v2_;     // per chunk maxima
+
+    // DFSPH: the cubic kernel, its wall integral, rest volume, lists; per sorted particle density ratio,
+    // factor, stiffness, wall gradient and support; v* lives in ax_, ay_, az_.
+    SphCubicKernel cubic_{1.0f};
+    DfsphWallTable wall_table_;
+    float volume_ = 0;
+    float full_neighbours_ = 0;
+    std::vector<DfsphChunkLists> lists_;
+    AlignedArray<std::uint32_t> pair_begin_, pair_end_;
+    AlignedArray<float> ratio_, factor_, k_, wall_gx_, wall_gy_, wall_gz_, support_;
+    // Warm start (Bender & Koschier 2017): each solve's stiffness summed over its corrections, by sorted
+    // index, this substep's and the last one's (read through source_, the index before the sort).
+    AlignedArray<float> k_div_sum_, k_den_sum_, k_div_last_, k_den_last_;
+    AlignedArray<std::uint32_t> source_;
+    float dt_last_ = 0;  // the last substep's length (0: nothing to warm-start from)
+    AlignedArray<double> chunk_error_;
 };
 
 }  // namespace rivulet

@@ -1,0 +1,111 @@
+#include "jobs/dfsph_lists.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace rivulet {
+
+DfsphWallTable::DfsphWallTable(const SphCubicKernel& kernel, float volume, float d) : h(kernel.h) {
+    const int reach = static_cast<int>(std::ceil(kernel.h / d));
+    for (int k = 0; k <= kSamples; ++k) {
+        const double s = double(h) * k / kSamples;
+        double sum = 0;
+        for (int row = 0; 2.0 * s + row * double(d) < double(h); ++row) {
+            const double depth = 2.0 * s + row * double(d);
+            for (int z = -reach; z <= reach; ++z)
+                for (int x = -reach; x <= reach; ++x) {
+                    const double r2 = (double(x) * x + double(z) * z) * double(d) * d + depth * depth;
+                    sum += kernel.w(static_cast<float>(r2));
+                }
+        }
+        mass[k] = static_cast<float>(double(volume) * sum);
+    }
+}
+
+void DfsphWallTable::at(float s, float& b, float& a) const {
+    if (s >= h) {
+        b = a = 0.0f;
+        return;
+    }
+    const float t = (s > 0.0f ? s : 0.0f) / h * kSamples;
+    int k = static_cast<int>(t);
+    if (k >= kSamples) k = kSamples - 1;
+    const float u = t - static_cast<float>(k);
+    b = mass[k] + (mass[k + 1] - mass[k]) * u;
+    // The slope of the interpolant itself, so that the solver's predicted change of B is exact to first
+    // order: DFSPH turns any mismatch between predicted and realized density into velocity / dt.
+    a = (mass[k] - mass[k + 1]) * (static_cast<float>(kSamples) / h);
+}
+
+void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
+                       const SphWalls& walls, const DfsphWallTable& wall_table, float full_neighbours,
+                       std::size_t begin, std::size_t end, DfsphChunkLists& lists,
+                       const DfsphParticleOut& out) {
+    lists.pairs.clear();
+    const float h2 = kernel.h2;
+    for (std::size_t i = begin; i < end; ++i) {
+        const float xi = nb.x[i], yi = nb.y[i], zi = nb.z[i];
+        out.pair_begin[i] = static_cast<std::uint32_t>(lists.pairs.size());
+        float w_sum = 0.0f;
+        float gx = 0.0f, gy = 0.0f, gz = 0.0f, g2 = 0.0f;
+        sph_for_each_near(nb.grid, nb.cell_start, nb.key[i], [&](std::uint32_t j) {
+            const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
+            const float r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 >= h2) return;
+            w_sum += kernel.w(r2);
+            if (j == i) return;
+            const float f = volume * kernel.grad_scale(std::sqrt(r2));
+            lists.pairs.push_back({j, f});
+            gx += f * dx, gy += f * dy, gz += f * dz;
+            g2 += f * f * r2;
+        });
+        out.pair_end[i] = static_cast<std::uint32_t>(lists.pairs.size());
+        // The walls: per face within h, B(s) and grad B = -A(s) n with n the face's inward normal. Faces
+        // meeting at an edge or corner combine as if the kernel were separable: the fluid's side keeps
+        // prod (1 - B_f) of the kernel's mass, so the edge's overlap is not counted twice.
+        float wall = 0.0f;
+        float b[3] = {0.0f, 0.0f, 0.0f};
+        if (walls.enabled) {
+            const float q[3] = {xi, yi, zi};
+            float keep[6], grad[6];
+            int faces = 0;
+            int axis_of[6];
+            for (int a = 0; a < 3; ++a) {
+                float mass = 0.0f, slope = 0.0f;
+                wall_table.at(q[a] - walls.min[a], mass, slope);
+                if (mass > 0.0f) keep[faces] = 1.0f - mass, grad[faces] = -slope, axis_of[faces++] = a;
+                wall_table.at(walls.max[a] - q[a], mass, slope);
+                if (mass > 0.0f) keep[faces] = 1.0f - mass, grad[faces] = slope, axis_of[faces++] = a;
+            }
+            float inside = 1.0f;
+            for (int f = 0; f < faces; ++f) inside *= keep[f];
+            wall = 1.0f - inside;
+            for (int f = 0; f < faces; ++f) {
+                float others = 1.0f;
+                for (int g = 0; g < faces; ++g)
+                    if (g != f) others *= keep[g];
+                b[axis_of[f]] += grad[f] * others;
+            }
+        }
+        out.wall_gx[i] = b[0], out.wall_gy[i] = b[1], out.wall_gz[i] = b[2];
+        gx += b[0], gy += b[1], gz += b[2];
+        out.density_ratio[i] = volume * w_sum + wall;
+        out.support[i] = static_cast<float>(out.pair_end[i] - out.pair_begin[i]) + wall * full_neighbours;
+        const float d = gx * gx + gy * gy + gz * gz + g2;
+        out.factor[i] = d > 1e-6f / kernel.h2 ? 1.0f / d : 0.0f;  // V grad W ~ 1 / h
+    }
+}
+
+float dfsph_lattice_volume(const SphCubicKernel& kernel, float d) {
+    const int reach = static_cast<int>(std::ceil(kernel.h / d));
+    double sum = 0;
+    for (int z = -reach; z <= reach; ++z)
+        for (int y = -reach; y <= reach; ++y)
+            for (int x = -reach; x <= reach; ++x) {
+                const double r2 = (double(x) * x + double(y) * y + double(z) * z) * double(d) * d;
+                sum += kernel.w(static_cast<float>(r2));
+            }
+    return static_cast<float>(1.0 / sum);
+}
+
+}  // namespace rivulet

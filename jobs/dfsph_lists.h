@@ -1,0 +1,70 @@
+#pragma once
+// Neighbour lists of divergence-free SPH (Bender & Koschier 2015), built once per substep and read by
+// every solver iteration: per sorted particle i, its neighbours j within h (itself excluded), each with
+// V grad W_ij of the cubic spline stored as one scalar f (V grad W_ij = f (x_i - x_j); V is the rest
+// volume). In the same pass: the density ratio rho_i / rho0 = sum_j V W_ij + B_i, the wall's share B_i and
+// its gradient, and the DFSPH factor
+//   alpha_i = 1 / (|sum_j V grad W_ij + grad B_i|^2 + sum_j |V grad W_ij|^2)   (0 where that vanishes).
+// The tank walls move with the tank and add their share B_i (DfsphWallTable) per face within h, faces at
+// an edge or corner combined as if the kernel were separable; like boundary particles (Akinci et al.
+// 2012) or volume maps (Bender et al. 2019) they count in the gradient sum only: the wall does not
+// answer i's pressure. Lists live in per-chunk vectors that
+// keep their capacity: in steady state nothing is allocated.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "jobs/sph_cubic_kernel.h"
+#include "jobs/sph_density.h"
+
+namespace rivulet {
+
+struct DfsphPair {
+    std::uint32_t j;
+    float f;  // V grad W_ij = f (x_i - x_j)
+};
+
+// The wall's share of a particle's density at distance s from a wall plane: what a mirror image of the
+// fluid would add if the fluid were the cubic lattice (spacing d) that the particle is a point of,
+// B(s) = V sum_{k >= 0} sum_lateral W(|(lateral, 2 s + k d)|), tabulated over [0, h]. At s = d / 2 it
+// completes a lattice's first layer to exactly rest density, and it rises twice as fast as the particle
+// closes in (the image closes in too), so the wall holds the fluid off by its density alone: a
+// continuous half-space (B = kernel mass beyond the plane) rises only as fast as the fluid's own share
+// falls and lets the first layer drift onto the wall.
+struct DfsphWallTable {
+    static constexpr int kSamples = 256;
+    float h = 1;
+    std::array<float, kSamples + 1> mass{};
+    DfsphWallTable() = default;
+    DfsphWallTable(const SphCubicKernel& kernel, float volume, float d);
+    // B by linear interpolation and A = -dB/ds as that interpolant's slope (0 from s = h on; s <= 0
+    // reads s = 0).
+    void at(float s, float& b, float& a) const;
+};
+
+// One chunk's lists: particle i (of the chunk's range) has pairs [pair_begin[i], pair_end[i]) of the
+// chunk's vector.
+struct DfsphChunkLists {
+    std::vector<DfsphPair> pairs;
+};
+struct DfsphParticleOut {
+    std::span<std::uint32_t> pair_begin, pair_end;
+    std::span<float> density_ratio, factor;
+    std::span<float> wall_gx, wall_gy, wall_gz;  // grad B_i
+    std::span<float> support;  // neighbours plus the wall's share (B_i times a full neighbourhood)
+};
+
+// Builds the lists of sorted particles [begin, end) into `lists` (cleared first) and writes their
+// per-particle values. `full_neighbours`: neighbours of a particle inside an unbounded lattice.
+void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
+                       const SphWalls& walls, const DfsphWallTable& wall_table, float full_neighbours,
+                       std::size_t begin, std::size_t end, DfsphChunkLists& lists,
+                       const DfsphParticleOut& out);
+
+// Rest volume of a particle such that the cubic spline density of an unbounded cubic lattice of spacing
+// d is exactly 1 (so rho0 V is its mass).
+float dfsph_lattice_volume(const SphCubicKernel& kernel, float d);
+
+}  // namespace rivulet

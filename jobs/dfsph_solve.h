@@ -1,0 +1,62 @@
+#pragma once
+// The iterations of divergence-free SPH (Bender & Koschier 2015, 2017) over the lists of
+// jobs/dfsph_lists.h, in velocity form. Each solve is a relaxed Jacobi iteration on a stiffness k_i >= 0
+// per particle (the paper's kappa_i times dt), with the velocities always those the stiffness applied
+// so far gives:
+//   residual: the density's rate of change  rate_i = sum_j V grad W_ij . (v_i - v_j) + the walls' term
+//             -> the signed residual r_i, per second, of
+//                divergence solve: rate_i (0 for particles with under min_support, whose deficient
+//                                  density would read as expansion)
+//                density solve:    ((rho_i / rho0 - 1) c + dt rate_i) / dt, c = catch_up <= 1: the
+//                                  error the step starts with is removed over dt / c, not one step
+//                                  (at small steps, removing it at once turns any mismatch between
+//                                  predicted and realized density into a large velocity)
+//             -> the new total max(k_total_i + omega r_i alpha_i, 0), of which the change is written
+//                to k_i; the error summed is max(r_i, 0) dt, a fraction of rest density
+//   correct:  v_i -= sum_j (k_i + k_j) V grad W_ij + k_i grad B_i
+// The total may shrink (an overshoot is taken back), which the per-iteration clamp of the 2015 paper
+// cannot do; omega = 1/2 damps Jacobi's checkerboard modes (as SPlisHSPlasH's solver does). Each pass
+// writes only particles [begin, end) and reads neighbours in list order: the bytes do not depend on the
+// split. Residual passes return their chunk's summed error (double) for the solver's average.
+#include <cstddef>
+#include <span>
+
+#include "jobs/dfsph_lists.h"
+
+namespace rivulet {
+
+struct DfsphVelocities {
+    std::span<float> vx, vy, vz;
+};
+
+// What every pass reads: sorted positions, the lists, the walls' gradients and velocity.
+struct DfsphContext {
+    std::span<const float> x, y, z;
+    std::span<const DfsphChunkLists> lists;  // per chunk
+    std::span<const std::uint32_t> pair_begin, pair_end;
+    std::span<const float> wall_gx, wall_gy, wall_gz, support;
+    float wall_velocity[3] = {0, 0, 0};
+    // Divergence solve: particles with less support (DfsphParticleOut::support) are left alone.
+    float min_support = 0;
+};
+
+enum class DfsphResidual { kDivergence, kDensity };
+inline constexpr float kDfsphRelaxation = 0.5f;
+
+double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                      DfsphResidual kind, float dt, std::span<const float> vx, std::span<const float> vy,
+                      std::span<const float> vz, std::span<const float> density_ratio,
+                      std::span<const float> factor, std::span<const float> k_total, std::span<float> k,
+                      float catch_up = 1.0f);
+
+void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                   std::span<const float> k, const DfsphVelocities& v);
+
+// Non-pressure forces, explicit: gravity and viscosity (the SPH discretisation of nu lap v of Monaghan,
+// a_i = 10 nu sum_j V (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij); writes v*_i = v_i + dt a_i to
+// `out` (not in place: neighbours read v) and returns the chunk's largest |v*|^2.
+float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
+                    float nu, float h, const float gravity[3], std::span<const float> vx,
+                    std::span<const float> vy, std::span<const float> vz, const DfsphVelocities& out);
+
+}  // namespace rivulet

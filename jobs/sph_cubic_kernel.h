@@ -1,0 +1,41 @@
+#pragma once
+// The cubic spline kernel (Monaghan 1992) with compact support h, 3D normalisation, as used by divergence-
+// free SPH (Bender & Koschier 2015). With q = r / h:
+//   W(r) = 8 / (pi h^3) (6 q^3 - 6 q^2 + 1)  for q <= 1/2
+//          8 / (pi h^3) 2 (1 - q)^3          for 1/2 < q < 1, 0 beyond
+// DFSPH takes density and its rate of change from one kernel (the rate is the gradient of that density),
+// which Müller's pair of poly6 (density) and spiky (gradient) is not; the WCSPH solver keeps those.
+#include <cmath>
+#include <numbers>
+
+namespace rivulet {
+
+struct SphCubicKernel {
+    float h = 1, h2 = 1;
+    float k = 0;  // 8 / (pi h^3)
+    float l = 0;  // 48 / (pi h^3): dW/dq = l q (3 q - 2) or -l (1 - q)^2
+
+    explicit SphCubicKernel(float support) : h(support), h2(support * support) {
+        const double h3 = double(support) * support * support;
+        k = static_cast<float>(8.0 / (std::numbers::pi * h3));
+        l = static_cast<float>(48.0 / (std::numbers::pi * h3));
+    }
+
+    // W at squared distance r2.
+    float w(float r2) const {
+        if (r2 >= h2) return 0.0f;
+        const float q = std::sqrt(r2) / h;
+        if (q <= 0.5f) return k * (6.0f * q * q * q - 6.0f * q * q + 1.0f);
+        const float s = 1.0f - q;
+        return k * 2.0f * s * s * s;
+    }
+    // grad W(x) = grad_scale(r) * x for |x| = r (0 at r = 0 and from r = h on).
+    float grad_scale(float r) const {
+        if (r >= h || r <= 1e-9f * h) return 0.0f;
+        const float q = r / h;
+        const float dwdq = q <= 0.5f ? l * q * (3.0f * q - 2.0f) : -l * (1.0f - q) * (1.0f - q);
+        return dwdq / (h * r);
+    }
+};
+
+}  // namespace rivulet
