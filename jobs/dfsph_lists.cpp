@@ -85,7 +85,8 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
             count = 0;
         };
         const std::uint32_t key = nb.key[i];
-        const std::uint32_t ix = key % grid.nx, iy = (key / grid.nx) % grid.ny, iz = key / (grid.nx * grid.ny);
+        const std::uint32_t ix = key % grid.nx, iy = (key / grid.nx) % grid.ny,
+                            iz = key / (grid.nx * grid.ny);
         const std::uint32_t x0 = ix > 0 ? ix - 1 : 0, x1 = ix + 1 < grid.nx ? ix + 1 : ix;
         const std::uint32_t y0 = iy > 0 ? iy - 1 : 0, y1 = iy + 1 < grid.ny ? iy + 1 : iy;
         const std::uint32_t z0 = iz > 0 ? iz - 1 : 0, z1 = iz + 1 < grid.nz ? iz + 1 : iz;

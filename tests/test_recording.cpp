@@ -157,6 +157,40 @@ INSTANTIATE_TEST_SUITE_P(Recording, GoldenRecording,
                                            "dambreak_small_slices"),
                          [](const auto& param) { return std::string(param.param); });
 
+// `run --inputs`: the tank follows an input track (keys interpolated linearly, held after the last), the
+// recording stores what the track gave each frame, and the recording replays without the track. A
+// malformed track is an error naming its line.
+TEST(Recording, RunTakesTheTankFromAnInputTrackAndTheRecordingReplays) {
+    const std::string track = test::temp_path("shake.txt");
+    test::write_text(track, "# frame dx dy dz\n0 0 0 0\n10 0.05 0 0   # pushed 5 cm along x\n");
+    const std::string rec = test::temp_path("shake.rivrec");
+    const std::string scene = std::string(RIVULET_SOURCE_DIR) + "/tests/golden/dambreak_small.json";
+    const test::Result run =
+        test::run_cli("run --scene " + scene + " --frames 16 --no-render --method slices " +
+                      "--threads 2 --inputs " + track + " --record " + rec);
+    ASSERT_EQ(run.status, 0) << run.output;
+    const Recording r = read_recording(rec);
+    ASSERT_EQ(r.inputs.size(), 16u);
+    EXPECT_EQ(r.inputs[0].container_offset.x, 0.0f);
+    EXPECT_FLOAT_EQ(r.inputs[4].container_offset.x, 0.02f);
+    EXPECT_EQ(r.inputs[12].container_offset.x, 0.05f);
+    EXPECT_EQ(r.inputs[12].emitter_scale, 1.0f);
+    const test::Result replay = test::run_cli("replay " + rec + " --threads 1");
+    EXPECT_EQ(replay.status, 0) << replay.output;
+    EXPECT_NE(replay.output.find("identical"), std::string::npos) << replay.output;
+
+    test::write_text(track, "0 0 0 0\n5 0.1 0\n");
+    const test::Result bad =
+        test::run_cli("run --scene " + scene + " --frames 2 --no-render --inputs " + track);
+    EXPECT_EQ(bad.status, 1) << bad.output;
+    EXPECT_NE(bad.output.find("line 2"), std::string::npos) << bad.output;
+    EXPECT_NE(bad.output.find("expected 'frame dx dy dz [emitter_scale]'"), std::string::npos) << bad.output;
+    test::write_text(track, "0 0 0 0\n0 0.1 0 0\n");
+    EXPECT_NE(test::run_cli("run --scene " + scene + " --frames 2 --no-render --inputs " + track)
+                  .output.find("frames must increase"),
+              std::string::npos);
+}
+
 TEST(Recording, ReplayOfAPerturbedFileReportsTheFrameAndExitsOne) {
     Recording r = record("faucet", 10, 8);
     r.inputs[10 + 5].emitter_scale = 0.25f;  // the file now asks for other inputs than the run had

@@ -13,6 +13,7 @@
 #include "runtime/lib/trace_recorder.h"
 #include "runtime/lib/trace_summary.h"
 #include "systems/render/video_writer.h"
+#include "systems/scenes/input_track.h"
 
 namespace rivulet::cli {
 namespace {
@@ -27,6 +28,7 @@ struct RunOptions {
     std::string json;
     std::string trace;
     std::string record;
+    std::string inputs;  // an input track (systems/scenes/input_track.h); empty: the scene's script
     int timing_warmup = 0;
     bool no_pipeline = false;
     bool no_render = false;
@@ -87,14 +89,19 @@ int run(const RunOptions& o) {
         silence_video_library_log();  // its notes would break the one-line error contract
     }
 
-    // A recording logs the inputs of every simulated frame, warm-up included, as they are handed out.
+    // Each simulated frame's outside inputs: the scene's script or an input track. A recording logs
+    // them, warm-up included, as they are handed out.
+    InputTrack track;
+    if (!o.inputs.empty()) track = read_input_track(o.inputs);
     std::vector<FrameInputs> inputs_log;
     if (!o.record.empty()) {
         config.hash_frames = true;
         inputs_log.resize(static_cast<std::size_t>(scene.warmup_frames) +
                           static_cast<std::size_t>(o.scene.frames));
-        config.inputs = [&inputs_log, &scene](std::uint64_t f) {
-            const FrameInputs in = scripted_inputs(scene, f);
+    }
+    if (!o.inputs.empty() || !o.record.empty()) {
+        config.inputs = [&inputs_log, &scene, &track](std::uint64_t f) {
+            const FrameInputs in = track.keys.empty() ? scripted_inputs(scene, f) : track.at(f);
             if (f < inputs_log.size()) inputs_log[f] = in;
             return in;
         };
@@ -196,6 +203,10 @@ void add_run_command(CLI::App& app, int& status) {
                     "Write every job's zones as Chrome Trace Event JSON (Perfetto, chrome://tracing)");
     cmd->add_option("--record", opts->record,
                     "Write a recording (scene, settings, per-frame inputs and hashes) for rivulet replay");
+    cmd->add_option("--inputs", opts->inputs,
+                    "Take each frame's outside inputs (the tank's offset, the emitters' scale) from this "
+                    "track, lines 'frame dx dy dz [emitter_scale]' interpolated linearly, instead of the "
+                    "scene's script (docs/recording.md)");
     cmd->add_option("--timing-warmup", opts->timing_warmup,
                     "Frames rendered first and left out of the medians (benchmarks)")
         ->check(CLI::Range(0, 1000000));
