@@ -147,9 +147,20 @@ TEST(SphSim, RejectsBadDescAndTooManyParticles) {
     }
 }
 
-// A block of water 0.15 x 0.1 x 0.1 m (spacing 1.25 cm, h = 2.5 cm, 768 particles) in a closed tank,
-// released from the lattice: after 2 s of simulated time the weakly compressible fluid must be at rest
-// and at rest density.
+// A block of water 0.15 x 0.1 x 0.1 m (spacing 1.25 cm, h = 2.5 cm, 768 particles) in a closed tank
+// 0.3 m high, released from the lattice.
+constexpr float kRestDepth = 0.1f;
+SphDesc resting_block(SphSolver solver) {
+    SphDesc desc;
+    desc.name = "rest";
+    desc.solver = solver;
+    desc.spacing = 0.0125f;
+    desc.container.box = {{0, 0, 0}, {0.15f, 0.3f, 0.1f}};
+    desc.fluid_boxes.push_back({{0, 0, 0}, {0.15f, kRestDepth, 0.1f}, {}});
+    return desc;
+}
+
+// The weakly compressible fluid: after 2 s of simulated time at rest and at rest density.
 TEST(SphSim, FluidAtRestInATankStaysAtRest) {
 #if defined(__SANITIZE_THREAD__)
     // A physics check (hundreds of steps of one small scene): ThreadSanitizer would only watch the SPH
@@ -157,13 +168,8 @@ TEST(SphSim, FluidAtRestInATankStaysAtRest) {
     // BuiltInScenesRunAndStayFinite already run under it.
     GTEST_SKIP() << "physics check, no thread coverage of its own";
 #endif
-    SphDesc desc;
-    desc.name = "rest";
-    desc.solver = SphSolver::kWcsph;
-    desc.spacing = 0.0125f;
-    const float depth = 0.1f;
-    desc.container.box = {{0, 0, 0}, {0.15f, 0.3f, 0.1f}};
-    desc.fluid_boxes.push_back({{0, 0, 0}, {0.15f, depth, 0.1f}, {}});
+    SphDesc desc = resting_block(SphSolver::kWcsph);
+    const float depth = kRestDepth;
     desc.sound_speed = 10.0f * std::sqrt(2.0f * 9.81f * depth);
     desc.max_substeps = 100;
     const std::size_t n = sph_seed_count(desc);
@@ -221,13 +227,8 @@ TEST(SphSim, DfsphTankHoldsRestDensityAndHeightForTenSeconds) {
 #if defined(__SANITIZE_THREAD__)
     GTEST_SKIP() << "physics check, no thread coverage of its own";
 #endif
-    SphDesc desc;
-    desc.name = "rest";
-    desc.solver = SphSolver::kDfsph;
-    desc.spacing = 0.0125f;
-    const float depth = 0.1f;
-    desc.container.box = {{0, 0, 0}, {0.15f, 0.3f, 0.1f}};
-    desc.fluid_boxes.push_back({{0, 0, 0}, {0.15f, depth, 0.1f}, {}});
+    const SphDesc desc = resting_block(SphSolver::kDfsph);
+    const float depth = kRestDepth;
     const std::size_t n = sph_seed_count(desc);
     ASSERT_EQ(n, 768u);
     SphSimulation sim(desc, n, 4);
