@@ -36,6 +36,23 @@ TEST(Cli, RunWritesTheTimingJsonAndPictures) {
     EXPECT_TRUE(std::ifstream(out + "/frame_00002.png").good());
 }
 
+// An SPH run reports its solver's work and the density error it left, on the console and in --json.
+TEST(Cli, SphRunReportsSubstepsIterationsAndTheDensityError) {
+    const std::string json = rivulet::test::temp_path("sph.json");
+    const Result r = run_cli("run --scene " + std::string(RIVULET_SOURCE_DIR) +
+                             "/tests/golden/dambreak_small.json --frames 12 --threads 2 --no-render "
+                             "--method slices --json " +
+                             json);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("sph dfsph: substeps per frame median"), std::string::npos) << r.output;
+    const auto sph = read_json(json)["sph"];
+    EXPECT_EQ(sph["solver"], "dfsph");
+    EXPECT_GE(sph["substeps_median"].get<int>(), 1);
+    EXPECT_GE(sph["iterations_max"].get<int>(), sph["iterations_median"].get<int>());
+    EXPECT_GT(sph["density_error_max_percent"].get<double>(), 0.0);
+    EXPECT_LE(sph["density_error_max_percent"].get<double>(), 0.1 + 1e-6);
+}
+
 TEST(Cli, MeshWritesAMeshAndItsJson) {
     const std::string in = rivulet::test::temp_path("column.xyz"),
                       obj = rivulet::test::temp_path("column.obj"),

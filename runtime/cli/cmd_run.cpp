@@ -134,6 +134,42 @@ int run(const RunOptions& o) {
                                                   : "groups",
         last.isolated, last.triangles);
     fmt::print("{}", format_stage_table(summary, config.render));
+    // SPH: the solver's work and the density error it left, over the run (DFSPH: the error is bounded by
+    // the scene's max_density_error unless a solve ran out of iterations, which is then said).
+    nlohmann::json sph_json;
+    if (scene.simulation == SimulationKind::kSph) {
+        std::vector<std::uint32_t> substeps, iterations;
+        double worst_error = 0;
+        for (const FrameRecord& r : recs) {
+            substeps.push_back(r.sph_substeps), iterations.push_back(r.sph_iterations);
+            worst_error = std::max(worst_error, r.sph_density_error);
+        }
+        const auto median = [](std::vector<std::uint32_t> v) {
+            std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+            return v[v.size() / 2];
+        };
+        const auto most = [](const std::vector<std::uint32_t>& v) {
+            return *std::max_element(v.begin(), v.end());
+        };
+        const bool dfsph = scene.sph.solver == SphSolver::kDfsph;
+        fmt::print("sph {}: substeps per frame median {} (max {})", dfsph ? "dfsph" : "wcsph",
+                   median(substeps), most(substeps));
+        if (dfsph)
+            fmt::print(
+                ", solver iterations per frame median {} (max {}), density error at most {:.3f} % (bound "
+                "{} %)",
+                median(iterations), most(iterations), 100.0 * worst_error, scene.sph.max_density_error);
+        fmt::print("\n");
+        if (dfsph && worst_error > 0.01 * double(scene.sph.max_density_error) + 1e-9)
+            fmt::print(stderr,
+                       "rivulet: warning: a substep's pressure solve stopped at sph.max_iterations ({}) with "
+                       "{:.3f} % density error left (bound {} %)\n",
+                       scene.sph.max_iterations, 100.0 * worst_error, scene.sph.max_density_error);
+        sph_json = {
+            {"solver", dfsph ? "dfsph" : "wcsph"}, {"substeps_median", median(substeps)},
+            {"substeps_max", most(substeps)},      {"iterations_median", median(iterations)},
+            {"iterations_max", most(iterations)},  {"density_error_max_percent", 100.0 * worst_error}};
+    }
     // A limit that was hit is reported (DESIGN §3.6): the picture is right but drawn with fewer cylinders.
     std::size_t short_frames = 0, worst = 0;
     for (const FrameRecord& r : recs)
@@ -177,6 +213,7 @@ int run(const RunOptions& o) {
         j["groups"] = last.groups;
         j["triangles"] = last.triangles;
         j["pool_exhausted_frames"] = short_frames;
+        if (!sph_json.is_null()) j["sph"] = sph_json;
         write_json_file(o.json, j);
     }
     return 0;

@@ -230,6 +230,12 @@ void FramePipeline::finish_extract(int slot) {
     pending_.hash = s.hash;
     pending_.particle_hash = s.particle_hash;
     pending_.inputs = s.inputs;
+    if (const SphSimulation* sph = sim_->sph()) {
+        pending_.sph_substeps = static_cast<std::uint32_t>(sph->substeps());
+        pending_.sph_iterations =
+            static_cast<std::uint32_t>(sph->divergence_iterations() + sph->density_iterations());
+        pending_.sph_density_error = sph->density_error();
+    }
     pending_.extract_ms = graph_.last_run_ms();
     for (FrameGraph::JobId j = 0; j < graph_.job_count(); ++j) pending_.job_ms[j] = graph_.job_ms(j);
 }

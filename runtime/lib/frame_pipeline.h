@@ -52,6 +52,10 @@ struct FrameRecord {
     std::uint64_t hash = 0;            // the surface's buffers (when config.hash_frames)
     std::uint64_t particle_hash = 0;   // the particle arrays the surface was extracted from (idem)
     FrameInputs inputs;
+    // SPH scenes: the frame's substeps, solver iterations (divergence + density corrections) and the
+    // largest average density error a substep's solve left (fraction of rest density; DFSPH).
+    std::uint32_t sph_substeps = 0, sph_iterations = 0;
+    double sph_density_error = 0;
     double extract_ms = 0;  // frame graph wall time (simulation + extraction)
     double render_ms = 0;   // main thread: upload + draw + read-back (0 when not rendering)
     double frame_ms = 0;    // wall time between consecutive frames leaving the loop

@@ -47,6 +47,8 @@ class SceneSimulation {
     const DiffuseSimulation* diffuse() const { return diffuse_.get(); }
     // SPH: substeps of the last frame (0 for streams).
     int last_substeps() const { return substeps_; }
+    // SPH scenes: the simulation (its last frame's solver figures); null otherwise.
+    const SphSimulation* sph() const { return sph_.get(); }
     const SceneDesc& scene() const { return scene_; }
 
   private:
