@@ -46,7 +46,6 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                        const DfsphParticleOut& out) {
     lists.pairs.clear();
     const float h2 = kernel.h2, h = kernel.h;
-    const SphGrid& grid = nb.grid;
     // Candidates within h, gathered branch-free from each row of cells and then evaluated in a second
     // loop; the order (and so every sum's bits) is the cell search's.
     constexpr int kBatch = 64;
@@ -64,16 +63,8 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                 const std::uint32_t j = cand[c];
                 const float r2 = cand_r2[c];
                 const float r = std::sqrt(r2);
-                const float q = r / h;
-                float w, dwdq;
-                if (q <= 0.5f) {
-                    w = kernel.k * (6.0f * q * q * q - 6.0f * q * q + 1.0f);
-                    dwdq = kernel.l * q * (3.0f * q - 2.0f);
-                } else {
-                    const float t = 1.0f - q;
-                    w = kernel.k * 2.0f * t * t * t;
-                    dwdq = -kernel.l * t * t;
-                }
+                float w = 0.0f, dwdq = 0.0f;
+                kernel.at(r, w, dwdq);
                 w_sum += w;
                 if (j == i) continue;
                 const float f = volume * (r <= 1e-9f * h ? 0.0f : dwdq / (h * r));
@@ -84,44 +75,36 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
             }
             count = 0;
         };
-        const std::uint32_t key = nb.key[i];
-        const std::uint32_t ix = key % grid.nx, iy = (key / grid.nx) % grid.ny,
-                            iz = key / (grid.nx * grid.ny);
-        const std::uint32_t x0 = ix > 0 ? ix - 1 : 0, x1 = ix + 1 < grid.nx ? ix + 1 : ix;
-        const std::uint32_t y0 = iy > 0 ? iy - 1 : 0, y1 = iy + 1 < grid.ny ? iy + 1 : iy;
-        const std::uint32_t z0 = iz > 0 ? iz - 1 : 0, z1 = iz + 1 < grid.nz ? iz + 1 : iz;
-        for (std::uint32_t cz = z0; cz <= z1; ++cz) {
-            for (std::uint32_t cy = y0; cy <= y1; ++cy) {
-                const std::uint32_t row = (cz * grid.ny + cy) * grid.nx;
-                const std::uint32_t row_end = nb.cell_start[row + x1 + 1];
-                std::uint32_t j = nb.cell_start[row + x0];
-                // Four candidates at a time (jobs/simd4.h: the same bits as the scalar loop below).
-                for (; j + 4 <= row_end; j += 4) {
-                    const simd::F4 dx = simd::splat(xi) - simd::load(&nb.x[j]);
-                    const simd::F4 dy = simd::splat(yi) - simd::load(&nb.y[j]);
-                    const simd::F4 dz = simd::splat(zi) - simd::load(&nb.z[j]);
-                    const simd::F4 r2 = dx * dx + dy * dy + dz * dz;
-                    unsigned hits = simd::less_mask(r2, h2_4);
-                    if (hits == 0) continue;
-                    alignas(16) float lanes[4];
-                    simd::store(lanes, r2);
-                    for (; hits != 0; hits &= hits - 1) {
-                        const int lane = __builtin_ctz(hits);
-                        cand[count] = j + std::uint32_t(lane);
-                        cand_r2[count] = lanes[lane];
-                        if (++count == kBatch) flush();
-                    }
-                }
-                for (; j < row_end; ++j) {
-                    const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
-                    const float r2 = dx * dx + dy * dy + dz * dz;
-                    if (r2 >= h2) continue;
-                    cand[count] = j;
-                    cand_r2[count] = r2;
-                    if (++count == kBatch) flush();
-                }
-            }
-        }
+        sph_for_each_near_row(nb.grid, nb.cell_start, nb.key[i],
+                              [&](std::uint32_t row_begin, std::uint32_t row_end) {
+                                  std::uint32_t j = row_begin;
+                                  // Four candidates at a time (jobs/simd4.h: the same bits as the scalar loop
+                                  // below).
+                                  for (; j + 4 <= row_end; j += 4) {
+                                      const simd::F4 dx = simd::splat(xi) - simd::load(&nb.x[j]);
+                                      const simd::F4 dy = simd::splat(yi) - simd::load(&nb.y[j]);
+                                      const simd::F4 dz = simd::splat(zi) - simd::load(&nb.z[j]);
+                                      const simd::F4 r2 = dx * dx + dy * dy + dz * dz;
+                                      unsigned hits = simd::less_mask(r2, h2_4);
+                                      if (hits == 0) continue;
+                                      alignas(16) float lanes[4];
+                                      simd::store(lanes, r2);
+                                      for (; hits != 0; hits &= hits - 1) {
+                                          const int lane = __builtin_ctz(hits);
+                                          cand[count] = j + std::uint32_t(lane);
+                                          cand_r2[count] = lanes[lane];
+                                          if (++count == kBatch) flush();
+                                      }
+                                  }
+                                  for (; j < row_end; ++j) {
+                                      const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
+                                      const float r2 = dx * dx + dy * dy + dz * dz;
+                                      if (r2 >= h2) continue;
+                                      cand[count] = j;
+                                      cand_r2[count] = r2;
+                                      if (++count == kBatch) flush();
+                                  }
+                              });
         flush();
         out.pair_end[i] = static_cast<std::uint32_t>(lists.pairs.size());
         // The walls: per face within h, B(s) and grad B = -A(s) n with n the face's inward normal. Faces
@@ -170,6 +153,18 @@ float dfsph_lattice_volume(const SphCubicKernel& kernel, float d) {
                 sum += kernel.w(static_cast<float>(r2));
             }
     return static_cast<float>(1.0 / sum);
+}
+
+int dfsph_lattice_neighbours(const SphCubicKernel& kernel, float d) {
+    const int reach = static_cast<int>(std::ceil(kernel.h / d));
+    int count = 0;
+    for (int z = -reach; z <= reach; ++z)
+        for (int y = -reach; y <= reach; ++y)
+            for (int x = -reach; x <= reach; ++x) {
+                const float r2 = float(x * x + y * y + z * z) * d * d;
+                if (r2 > 0.0f && r2 < kernel.h2) ++count;
+            }
+    return count;
 }
 
 }  // namespace rivulet

@@ -66,5 +66,7 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
 // Rest volume of a particle such that the cubic spline density of an unbounded cubic lattice of spacing
 // d is exactly 1 (so rho0 V is its mass).
 float dfsph_lattice_volume(const SphCubicKernel& kernel, float d);
+// Neighbours (within h, itself excluded) of a point inside an unbounded cubic lattice of spacing d.
+int dfsph_lattice_neighbours(const SphCubicKernel& kernel, float d);
 
 }  // namespace rivulet

@@ -21,19 +21,30 @@ struct SphCubicKernel {
         l = static_cast<float>(48.0 / (std::numbers::pi * h3));
     }
 
+    // W and dW/dq at distance r, 0 <= r < h (q = r / h): one sqrt serves both where a caller needs both.
+    void at(float r, float& w_value, float& dwdq) const {
+        const float q = r / h;
+        if (q <= 0.5f) {
+            w_value = k * (6.0f * q * q * q - 6.0f * q * q + 1.0f);
+            dwdq = l * q * (3.0f * q - 2.0f);
+        } else {
+            const float t = 1.0f - q;
+            w_value = k * 2.0f * t * t * t;
+            dwdq = -l * t * t;
+        }
+    }
     // W at squared distance r2.
     float w(float r2) const {
         if (r2 >= h2) return 0.0f;
-        const float q = std::sqrt(r2) / h;
-        if (q <= 0.5f) return k * (6.0f * q * q * q - 6.0f * q * q + 1.0f);
-        const float s = 1.0f - q;
-        return k * 2.0f * s * s * s;
+        float w_value = 0.0f, dwdq = 0.0f;
+        at(std::sqrt(r2), w_value, dwdq);
+        return w_value;
     }
     // grad W(x) = grad_scale(r) * x for |x| = r (0 at r = 0 and from r = h on).
     float grad_scale(float r) const {
         if (r >= h || r <= 1e-9f * h) return 0.0f;
-        const float q = r / h;
-        const float dwdq = q <= 0.5f ? l * q * (3.0f * q - 2.0f) : -l * (1.0f - q) * (1.0f - q);
+        float w_value = 0.0f, dwdq = 0.0f;
+        at(r, w_value, dwdq);
         return dwdq / (h * r);
     }
 };

@@ -70,11 +70,11 @@ void sph_grid_scatter_chunk(const SphParticlesIn& chunk, std::span<const std::ui
                             std::span<const std::uint32_t> cell_start, std::span<std::uint32_t> cursors,
                             const SphSortedOut& out, std::size_t first = 0);
 
-// Calls f(j) for every sorted particle j in the 27 cells around cell `key` (itself included), in a fixed
-// order: z, then y, then the x row (three cells adjacent in sorted order, so one contiguous range).
+// Calls f(begin, end) for each of the 9 x-rows of cells around cell `key` (itself included): the sorted
+// particles [begin, end) of three cells adjacent in sorted order, in a fixed order (z, then y).
 template <class F>
-inline void sph_for_each_near(const SphGrid& g, std::span<const std::uint32_t> cell_start, std::uint32_t key,
-                              F&& f) {
+inline void sph_for_each_near_row(const SphGrid& g, std::span<const std::uint32_t> cell_start,
+                                  std::uint32_t key, F&& f) {
     const std::uint32_t ix = key % g.nx;
     const std::uint32_t iy = (key / g.nx) % g.ny;
     const std::uint32_t iz = key / (g.nx * g.ny);
@@ -84,11 +84,19 @@ inline void sph_for_each_near(const SphGrid& g, std::span<const std::uint32_t> c
     for (std::uint32_t cz = z0; cz <= z1; ++cz) {
         for (std::uint32_t cy = y0; cy <= y1; ++cy) {
             const std::uint32_t row = (cz * g.ny + cy) * g.nx;
-            const std::uint32_t begin = cell_start[row + x0];
-            const std::uint32_t end = cell_start[row + x1 + 1];
-            for (std::uint32_t j = begin; j < end; ++j) f(j);
+            f(cell_start[row + x0], cell_start[row + x1 + 1]);
         }
     }
+}
+
+// Calls f(j) for every sorted particle j in the 27 cells around cell `key` (itself included), in the
+// fixed order of sph_for_each_near_row.
+template <class F>
+inline void sph_for_each_near(const SphGrid& g, std::span<const std::uint32_t> cell_start, std::uint32_t key,
+                              F&& f) {
+    sph_for_each_near_row(g, cell_start, key, [&f](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t j = begin; j < end; ++j) f(j);
+    });
 }
 
 }  // namespace rivulet

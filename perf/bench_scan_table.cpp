@@ -36,6 +36,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "perf/support/bench_util.h"
 #include "perf/support/falling_stream.h"
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/scan_jobs.h"
@@ -132,23 +133,6 @@ Row measure(const rivulet::ParticleSet& set, int threads, int warmup, int runs) 
     return row;
 }
 
-std::vector<long> parse_list(std::string_view s, const char* what) {
-    std::vector<long> v;
-    while (!s.empty()) {
-        const std::size_t comma = s.find(',');
-        const std::string item(s.substr(0, comma));
-        char* end = nullptr;
-        const long x = std::strtol(item.c_str(), &end, 10);
-        if (item.empty() || *end != '\0' || x <= 0)
-            throw std::invalid_argument(fmt::format("bad {} '{}'", what, item));
-        v.push_back(x);
-        if (comma == std::string_view::npos) break;
-        s.remove_prefix(comma + 1);
-    }
-    if (v.empty()) throw std::invalid_argument(fmt::format("empty {}", what));
-    return v;
-}
-
 int run(int argc, char** argv) {
     std::vector<long> sizes = {1000, 2000, 3000, 4000, 5000, 6000, 7000, 8000, 32000, 128000};
     std::vector<long> threads = {1, 2};
@@ -162,17 +146,17 @@ int run(int argc, char** argv) {
             return argv[++i];
         };
         if (a == "--sizes")
-            sizes = parse_list(value(), "size");
+            sizes = rivulet::bench::parse_list(value(), "size");
         else if (a == "--threads")
-            threads = parse_list(value(), "thread count");
+            threads = rivulet::bench::parse_list(value(), "thread count");
         else if (a == "--runs")
-            runs = static_cast<int>(parse_list(value(), "run count").front());
+            runs = static_cast<int>(rivulet::bench::parse_list(value(), "run count").front());
         else if (a == "--warmup")
             warmup = static_cast<int>(std::strtol(std::string(value()).c_str(), nullptr, 10));
         else if (a == "--json")
             json_path = value();
         else if (a == "--streams")
-            streams = parse_list(value(), "stream count").front();
+            streams = rivulet::bench::parse_list(value(), "stream count").front();
         else if (a == "--help" || a == "-h") {
             fmt::print(
                 "usage: {} [--sizes 1000,2000,...] [--threads 1,2] [--runs 100] [--warmup 20] [--streams N] "

@@ -17,9 +17,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "perf/support/bench_util.h"
 #include "systems/sim/sph_scenes.h"
 #include "systems/sim/sph_simulation.h"
 
@@ -30,17 +32,6 @@ using rivulet::SphSimulation;
 
 double seconds_since(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-std::vector<long> parse_list(const char* text) {
-    std::vector<long> out;
-    for (const char* p = text; *p;) {
-        char* end = nullptr;
-        out.push_back(std::strtol(p, &end, 10));
-        p = *end == ',' ? end + 1 : end;
-        if (end == p && *p) break;
-    }
-    return out;
 }
 
 // Where a phase's time goes: 0 neighbours (grid sort, lists or density), 1 solver (iterations or forces),
@@ -121,7 +112,7 @@ Row run(const rivulet::SphDesc& desc, int threads, int frames) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv) try {
     std::vector<long> sizes{8000, 24000, 64000, 256000}, threads{1, 2};
     int frames = 180;
     rivulet::SphSolver solver = rivulet::SphSolver::kDfsph;
@@ -134,9 +125,9 @@ int main(int argc, char** argv) {
         } else if (a == "--frames" && more) {
             frames = std::max(3, std::atoi(argv[++i]));
         } else if (a == "--sizes" && more) {
-            sizes = parse_list(argv[++i]);
+            sizes = rivulet::bench::parse_list(argv[++i], "size");
         } else if (a == "--threads" && more) {
-            threads = parse_list(argv[++i]);
+            threads = rivulet::bench::parse_list(argv[++i], "thread count");
         } else if (a == "--solver" && more) {
             solver =
                 std::string(argv[++i]) == "wcsph" ? rivulet::SphSolver::kWcsph : rivulet::SphSolver::kDfsph;
@@ -159,7 +150,7 @@ int main(int argc, char** argv) {
         desc.solver = solver;
         if (cfl > 0) desc.cfl = cfl;
         for (long t : threads) {
-            const Row r = run(desc, int(std::max(t, 1L)), frames);
+            const Row r = run(desc, int(t), frames);
             std::printf("%9zu %7ld %8.2f %8.2f %8.2f %8.2f %8.1f %8.1f %8.1f %9.4f %6.1f %6.1f %6.1f\n",
                         r.particles, t, frames / r.seconds, r.third_fps[0], r.third_fps[1], r.third_fps[2],
                         r.substeps, r.divergence, r.density, 100.0 * r.max_error, r.share[0], r.share[1],
@@ -168,4 +159,7 @@ int main(int argc, char** argv) {
         }
     }
     return 0;
+} catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "bench_sph: %s\n", e.what());
+    return 2;
 }

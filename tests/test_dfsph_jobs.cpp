@@ -84,6 +84,7 @@ TEST(DfsphJobs, InsideALatticeTheDensityIsRestWithTwentySixNeighbours) {
     const Block block(7, d);
     const SphCubicKernel kernel(2.0f * d);
     const float volume = dfsph_lattice_volume(kernel, d);
+    ASSERT_EQ(dfsph_lattice_neighbours(kernel, d), 26);
     Lists l(block.size());
     const DfsphWallTable table(kernel, volume, d);
     dfsph_build_lists(block.view(), kernel, volume, SphWalls{}, table, 26.0f, 0, block.size(), l.lists,

@@ -138,19 +138,13 @@ int run(const RunOptions& o) {
     // the scene's max_density_error unless a solve ran out of iterations, which is then said).
     nlohmann::json sph_json;
     if (scene.simulation == SimulationKind::kSph) {
-        std::vector<std::uint32_t> substeps, iterations;
+        std::vector<double> substeps, iterations;
         double worst_error = 0;
         for (const FrameRecord& r : recs) {
             substeps.push_back(r.sph_substeps), iterations.push_back(r.sph_iterations);
             worst_error = std::max(worst_error, r.sph_density_error);
         }
-        const auto median = [](std::vector<std::uint32_t> v) {
-            std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-            return v[v.size() / 2];
-        };
-        const auto most = [](const std::vector<std::uint32_t>& v) {
-            return *std::max_element(v.begin(), v.end());
-        };
+        const auto most = [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); };
         const bool dfsph = scene.sph.solver == SphSolver::kDfsph;
         fmt::print("sph {}: substeps per frame median {} (max {})", dfsph ? "dfsph" : "wcsph",
                    median(substeps), most(substeps));

@@ -277,17 +277,7 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
     volume_ = dfsph_lattice_volume(cubic_, d);
     wall_table_ = DfsphWallTable(cubic_, volume_, d);
     if (desc.solver == SphSolver::kDfsph) fluid_.mass = desc.rest_density * volume_;
-    {
-        const int reach = static_cast<int>(std::ceil(h / d));
-        int full = 0;
-        for (int z = -reach; z <= reach; ++z)
-            for (int y = -reach; y <= reach; ++y)
-                for (int x = -reach; x <= reach; ++x) {
-                    const float r2 = float(x * x + y * y + z * z) * d * d;
-                    if (r2 > 0.0f && r2 < cubic_.h2) ++full;
-                }
-        full_neighbours_ = static_cast<float>(full);
-    }
+    full_neighbours_ = static_cast<float>(dfsph_lattice_neighbours(cubic_, d));
 
     const std::size_t n = std::max<std::size_t>(max_particles, 1);
     keys_.reserve(n);
@@ -394,6 +384,12 @@ bool SphSimulation::solve_done(float max_error_percent) {
     return done;
 }
 
+std::size_t SphSimulation::start_solve(Solve solve) {
+    solve_ = solve, iterations_ = 0, warm_ = dt_last_ > 0.0f;
+    if (warm_) return kCorrect;  // the warm start's correction comes first
+    return solve == Solve::kDivergence ? kDivergence : kDensityError;
+}
+
 std::size_t SphSimulation::next_phase() {
     const bool dfsph = desc_.solver == SphSolver::kDfsph;
     std::size_t next = kPhaseCount;
@@ -404,8 +400,7 @@ std::size_t SphSimulation::next_phase() {
                 std::swap(k_den_sum_, k_den_last_);
                 dt_last_ = dt_sub_;
             }
-            next = substep_ < substeps_ ? kSubstep : kPhaseCount;
-            break;
+            [[fallthrough]];
         case kPhaseCount:
             next = substep_ < substeps_ ? kSubstep : kPhaseCount;
             break;
@@ -413,8 +408,7 @@ std::size_t SphSimulation::next_phase() {
             next = dfsph ? kNeighbours : kDensity;
             break;
         case kNeighbours:
-            solve_ = Solve::kDivergence, iterations_ = 0, warm_ = dt_last_ > 0.0f;
-            next = warm_ ? kCorrect : kDivergence;
+            next = start_solve(Solve::kDivergence);
             break;
         case kDivergence:
             next = solve_done(desc_.max_divergence_error) ? kPredict : kCorrect;
@@ -429,8 +423,7 @@ std::size_t SphSimulation::next_phase() {
             next = solve_ == Solve::kDivergence ? kDivergence : kDensityError;
             break;
         case kPredict:
-            solve_ = Solve::kDensity, iterations_ = 0, warm_ = dt_last_ > 0.0f;
-            next = warm_ ? kCorrect : kDensityError;
+            next = start_solve(Solve::kDensity);
             break;
         case kDensityError:
             next = solve_done(desc_.max_density_error) ? kIntegrate : kCorrect;

@@ -143,6 +143,8 @@ class SphSimulation {
     SphNeighbourhood neighbourhood() const;
     DfsphContext dfsph_context() const;
     bool solve_done(float max_error_percent);
+    // Starts a solve: its first phase (the warm start's correction when there is one, else its residual).
+    std::size_t start_solve(Solve solve);
 
     SphDesc desc_;
     SphFluidParams fluid_;
