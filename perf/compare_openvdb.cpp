@@ -119,7 +119,8 @@ std::vector<int> parse_ints(const std::string& text) {
 
 int main(int argc, char** argv) {
     CLI::App app{"Marching slices against OpenVDB ParticlesToLevelSet + volumeToMesh"};
-    std::string sizes = "25000,125000,1000000", threads = "1,2", splash, json_out;
+    std::string sizes = "25000,125000,1000000", threads = "1,2", fields = "spacing", splash, json_out;
+    std::vector<std::string> more_frames;
     float radius = 0.01f;
     int repeat = 5;
     constexpr int kOurRuns = 5;
@@ -131,6 +132,9 @@ int main(int argc, char** argv) {
                    fmt::format("Alternations per case (one OpenVDB run, {} of ours); medians", kOurRuns))
         ->capture_default_str();
     app.add_option("--splash", splash, "A splashing frame (PLY) to compare as well");
+    app.add_option("--frames", more_frames, "More particle files to compare (any format `mesh` reads)");
+    app.add_option("--fields", fields, "Marching slices fields: spacing, classic or both")
+        ->capture_default_str();
     app.add_option("--block", block, "Marching slices: cubes per block edge")->capture_default_str();
     app.add_option("--json", json_out, "Write the table as JSON");
     CLI11_PARSE(app, argc, argv);
@@ -142,65 +146,82 @@ int main(int argc, char** argv) {
     for (int n : parse_ints(sizes))
         inputs.emplace_back(fmt::format("dam block {}", n), dam_block(std::size_t(n), radius));
     if (!splash.empty()) inputs.emplace_back("splash " + splash, read_particles(splash));
+    for (const std::string& f : more_frames) inputs.emplace_back(f, read_particles(f));
+    std::vector<rivulet::SliceField> field_list;
+    for (std::size_t at = 0; at <= fields.size();) {
+        const std::size_t end = std::min(fields.find(',', at), fields.size());
+        rivulet::SliceField f{};
+        if (!rivulet::parse_slice_field(fields.substr(at, end - at), f)) {
+            fmt::print(stderr, "--fields: '{}' is not spacing or classic\n", fields.substr(at, end - at));
+            return 2;
+        }
+        field_list.push_back(f);
+        at = end + 1;
+    }
 
     nlohmann::json rows = nlohmann::json::array();
     fmt::print(
-        "| input | particles | T | slices ms | slices tris | OpenVDB ms | OpenVDB tris | speedup | "
+        "| input | particles | field | T | slices ms | slices tris | OpenVDB ms | OpenVDB tris | speedup | "
         "mean dist ours->vdb | mean dist vdb->ours | p95 ours->vdb |\n");
-    fmt::print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-    for (const auto& [name, cloud] : inputs) {
-        for (int t : parse_ints(threads)) {
-            ThreadControl control(t);
-            MeshRequest req;
-            req.method = "slices";
-            req.radius = radius;
-            req.repeat = kOurRuns;
-            req.slices.block_cubes = block;
-            MeshResult ours;
-            std::vector<double> our_ms, vdb_ms;
-            VdbResult vdb;
-            for (int k = 0; k < repeat; ++k) {
-                ours = extract_mesh(cloud, req);
-                our_ms.push_back(ours.total_ms);
-                vdb = openvdb_mesh(cloud, radius, ours.voxel);
-                vdb_ms.push_back(vdb.ms);
+    fmt::print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (const auto& [name, cloud] : inputs)
+        for (const rivulet::SliceField field : field_list) {
+            for (int t : parse_ints(threads)) {
+                ThreadControl control(t);
+                MeshRequest req;
+                req.method = "slices";
+                req.radius = radius;
+                req.repeat = kOurRuns;
+                req.slices.block_cubes = block;
+                req.slices.field = field;
+                MeshResult ours;
+                std::vector<double> our_ms, vdb_ms;
+                VdbResult vdb;
+                for (int k = 0; k < repeat; ++k) {
+                    ours = extract_mesh(cloud, req);
+                    our_ms.push_back(ours.total_ms);
+                    vdb = openvdb_mesh(cloud, radius, ours.voxel);
+                    vdb_ms.push_back(vdb.ms);
+                }
+                ours.total_ms = median(our_ms);
+                const double vdb_median = median(vdb_ms);
+                // Our vertices in OpenVDB's distance field; OpenVDB's vertices in our mesh's distance field.
+                std::vector<openvdb::Vec3s> our_points;
+                for (std::size_t v = 0; v < ours.mesh.vertex_count(); ++v)
+                    our_points.emplace_back(ours.mesh.vertices[6 * v], ours.mesh.vertices[6 * v + 1],
+                                            ours.mesh.vertices[6 * v + 2]);
+                std::vector<openvdb::Vec3I> our_tris;
+                for (std::size_t i = 0; i + 2 < ours.mesh.indices.size(); i += 3)
+                    our_tris.emplace_back(ours.mesh.indices[i], ours.mesh.indices[i + 1],
+                                          ours.mesh.indices[i + 2]);
+                const auto xform = openvdb::math::Transform::createLinearTransform(ours.voxel);
+                const auto our_sdf = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, our_points,
+                                                                                        our_tris, kHalfWidth);
+                const Distance to_vdb = sample_distance(*vdb.grid, our_points);
+                const Distance to_ours = sample_distance(*our_sdf, vdb.points);
+                const double speedup = vdb_median / ours.total_ms;
+                fmt::print(
+                    "| {} | {} | {} | {} | {:.2f} | {} | {:.1f} | {} | {:.1f}x | {:.4f} r | {:.4f} r | "
+                    "{:.4f} r |\n",
+                    name, cloud.size(), rivulet::slice_field_name(field), t, ours.total_ms,
+                    ours.mesh.triangle_count(), vdb_median, vdb.triangle_count(), speedup,
+                    to_vdb.mean / radius, to_ours.mean / radius, to_vdb.p95 / radius);
+                std::fflush(stdout);
+                rows.push_back({{"input", name},
+                                {"particles", cloud.size()},
+                                {"field", rivulet::slice_field_name(field)},
+                                {"spacing_radii", ours.spacing / radius},
+                                {"threads", t},
+                                {"slices_ms", ours.total_ms},
+                                {"slices_triangles", ours.mesh.triangle_count()},
+                                {"openvdb_ms", vdb_median},
+                                {"openvdb_triangles", vdb.triangle_count()},
+                                {"speedup", speedup},
+                                {"mean_distance_to_openvdb_radii", to_vdb.mean / radius},
+                                {"mean_distance_from_openvdb_radii", to_ours.mean / radius},
+                                {"stages", ours.stage_ms}});
             }
-            ours.total_ms = median(our_ms);
-            const double vdb_median = median(vdb_ms);
-            // Our vertices in OpenVDB's distance field; OpenVDB's vertices in our mesh's distance field.
-            std::vector<openvdb::Vec3s> our_points;
-            for (std::size_t v = 0; v < ours.mesh.vertex_count(); ++v)
-                our_points.emplace_back(ours.mesh.vertices[6 * v], ours.mesh.vertices[6 * v + 1],
-                                        ours.mesh.vertices[6 * v + 2]);
-            std::vector<openvdb::Vec3I> our_tris;
-            for (std::size_t i = 0; i + 2 < ours.mesh.indices.size(); i += 3)
-                our_tris.emplace_back(ours.mesh.indices[i], ours.mesh.indices[i + 1],
-                                      ours.mesh.indices[i + 2]);
-            const auto xform = openvdb::math::Transform::createLinearTransform(ours.voxel);
-            const auto our_sdf =
-                openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, our_points, our_tris, kHalfWidth);
-            const Distance to_vdb = sample_distance(*vdb.grid, our_points);
-            const Distance to_ours = sample_distance(*our_sdf, vdb.points);
-            const double speedup = vdb_median / ours.total_ms;
-            fmt::print(
-                "| {} | {} | {} | {:.2f} | {} | {:.1f} | {} | {:.1f}x | {:.4f} r | {:.4f} r | {:.4f} r |\n",
-                name, cloud.size(), t, ours.total_ms, ours.mesh.triangle_count(), vdb_median,
-                vdb.triangle_count(), speedup, to_vdb.mean / radius, to_ours.mean / radius,
-                to_vdb.p95 / radius);
-            std::fflush(stdout);
-            rows.push_back({{"input", name},
-                            {"particles", cloud.size()},
-                            {"threads", t},
-                            {"slices_ms", ours.total_ms},
-                            {"slices_triangles", ours.mesh.triangle_count()},
-                            {"openvdb_ms", vdb_median},
-                            {"openvdb_triangles", vdb.triangle_count()},
-                            {"speedup", speedup},
-                            {"mean_distance_to_openvdb_radii", to_vdb.mean / radius},
-                            {"mean_distance_from_openvdb_radii", to_ours.mean / radius},
-                            {"stages", ours.stage_ms}});
         }
-    }
     if (!json_out.empty()) std::ofstream(json_out) << rows.dump(2) << '\n';
     return 0;
 }

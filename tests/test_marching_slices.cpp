@@ -34,8 +34,12 @@ struct Cloud {
     std::size_t size() const { return x.size(); }
 };
 
-SlicesSettings settings_for(float radius, std::uint32_t block, float voxel = 0) {
+// The classic field by default: these tests pin the extractor's mechanics to its fixed R_c = 2 radii;
+// the spacing field's rule is tested in test_slices_field.cpp, its mechanics here where named.
+SlicesSettings settings_for(float radius, std::uint32_t block, float voxel = 0,
+                            SliceField field = SliceField::kClassic) {
     SlicesSettings s;
+    s.field = field;
     s.radius = radius;
     s.block_cubes = block;
     s.voxel = voxel;
@@ -245,7 +249,11 @@ TEST(BlockBins, MaxBlocksPerParticleBoundsEveryParticleAndIsReachedBySmallBlocks
 TEST(MarchingSlices, MatchesBruteForceOnRandomBlobs) {
     for (unsigned seed : {1u, 2u}) {
         const Cloud c = blobs(seed, 5, 40, 0.1f);
-        for (std::uint32_t block : {8u, 16u}) expect_matches_reference(c, settings_for(0.1f, block));
+        for (std::uint32_t block : {8u, 16u}) {
+            expect_matches_reference(c, settings_for(0.1f, block));
+            // R_c and the reach set at the first frame from the measured spacing.
+            expect_matches_reference(c, settings_for(0.1f, block, 0, SliceField::kSpacing));
+        }
     }
 }
 
@@ -503,19 +511,21 @@ TEST(MarchingSlices, LatticeFacesLieOneRadiusOutside) {
 
 TEST(MarchingSlices, SameBytesAtOneAndTwoThreadsAndSerially) {
     const Cloud c = blobs(3, 6, 300, 0.05f);
-    const SlicesSettings s = settings_for(0.05f, 8);
-    const std::uint64_t serial = hash_of(extract(c, s).mesh);
-    for (int threads : {1, 2}) {
-        ThreadControl control(threads);
-        SlicesExtractor ex(s, c.size());
-        SurfaceMesh mesh;
-        FrameGraph graph;
-        const SlicesJobIds ids = add_slices_jobs(
-            graph, ex, [&c] { return c.pos(); }, [&mesh]() -> SurfaceMesh& { return mesh; });
-        EXPECT_EQ(graph.job_name(ids.stage), "slices.stage");
-        for (int r = 0; r < 2; ++r) {
-            graph.run();
-            EXPECT_EQ(hash_of(mesh), serial) << threads << " threads, run " << r;
+    for (const SliceField field : {SliceField::kClassic, SliceField::kSpacing}) {
+        const SlicesSettings s = settings_for(0.05f, 8, 0, field);
+        const std::uint64_t serial = hash_of(extract(c, s).mesh);
+        for (int threads : {1, 2}) {
+            ThreadControl control(threads);
+            SlicesExtractor ex(s, c.size());
+            SurfaceMesh mesh;
+            FrameGraph graph;
+            const SlicesJobIds ids = add_slices_jobs(
+                graph, ex, [&c] { return c.pos(); }, [&mesh]() -> SurfaceMesh& { return mesh; });
+            EXPECT_EQ(graph.job_name(ids.stage), "slices.stage");
+            for (int r = 0; r < 2; ++r) {
+                graph.run();
+                EXPECT_EQ(hash_of(mesh), serial) << threads << " threads, run " << r;
+            }
         }
     }
 }

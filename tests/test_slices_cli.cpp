@@ -9,6 +9,7 @@
 
 #include "support/test_support.h"
 #include "systems/io/mesh_io.h"
+#include "systems/slices/slices_settings.h"
 
 namespace {
 
@@ -49,7 +50,11 @@ TEST(SlicesCli, MeshWritesAMeshAndItsJson) {
                               "slices.weld", "slices.normals", "slices.borders", "slices.stage"})
         EXPECT_TRUE(j["stages"].contains(stage)) << stage;
     EXPECT_FLOAT_EQ(j["voxel"].get<float>(), 0.015f) << "default voxel: radius / 2";
-    EXPECT_FLOAT_EQ(j["rc"].get<float>(), 0.06f) << "R_c = 2 radius";
+    EXPECT_EQ(j["field"], "spacing");
+    const float spacing = j["spacing"].get<float>();
+    EXPECT_GT(spacing, 0.0f);
+    EXPECT_FLOAT_EQ(j["rc"].get<float>(),
+                    static_cast<float>(rivulet::spacing_field(double(spacing) / 0.03).rc_factor) * 0.03f);
     // Every triangle comes from a swept cube, at most five a cube; the sweep starts from seeds.
     EXPECT_GE(5 * j["cubes"].get<std::uint64_t>(), j["triangles"].get<std::uint64_t>());
     EXPECT_GT(j["seeds"].get<std::uint64_t>(), 0u);
@@ -68,6 +73,13 @@ TEST(SlicesCli, MeshWritesAMeshAndItsJson) {
             .status,
         0);
     EXPECT_EQ(read_json(json2)["triangles"], j["triangles"]);
+    // The classic field: R_c two radii whatever the spacing.
+    const std::string json3 = rivulet::test::temp_path("slices3.json");
+    ASSERT_EQ(run_cli("mesh " + in + " --method slices --radius 0.03 --field classic --json " + json3).status,
+              0);
+    EXPECT_EQ(read_json(json3)["field"], "classic");
+    EXPECT_FLOAT_EQ(read_json(json3)["rc"].get<float>(), 0.06f);
+    EXPECT_NE(run_cli("mesh " + in + " --method slices --radius 0.03 --field fuzzy").status, 0);
 }
 
 TEST(SlicesCli, MeshRunsOverANumberedSequence) {

@@ -46,6 +46,7 @@ nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
                         {"radius", r.radius}};
     if (method == "slices") {
         j["voxel"] = r.voxel, j["rc"] = r.rc, j["iso"] = r.iso, j["blocks"] = r.blocks;
+        j["field"] = r.slices_field, j["spacing"] = r.spacing;
         j["seeds"] = r.seeds, j["cubes"] = r.cubes;
     } else if (method == "volume") {
         const DensityGrid& g = r.volume->grid;
@@ -65,9 +66,7 @@ int run(const MeshOptions& o) {
     MeshRequest req;
     req.method = o.method;
     req.scan = o.scan.resolve();
-    req.slices.voxel = o.slices.voxel;
-    req.slices.block_cubes = o.slices.block;
-    req.slices.exhaustive_seeds = o.slices.exhaustive;
+    o.slices.apply(req.slices);
     if (o.method == "slices" && o.radius > 0) {
         SlicesSettings probe = req.slices;
         probe.radius = o.radius;

@@ -71,9 +71,7 @@ int run(const RunOptions& o) {
     PipelineConfig config;
     config.method = parse_surface_method(method);
     config.scan = o.scan.resolve();
-    config.slices.voxel = o.slices.voxel;
-    config.slices.block_cubes = o.slices.block;
-    config.slices.exhaustive_seeds = o.slices.exhaustive;
+    o.slices.apply(config.slices);
     config.screen = o.screen.settings;
     config.volume = o.volume.resolve(o.slices.voxel);
     config.render = !o.no_render;

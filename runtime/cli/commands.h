@@ -50,9 +50,13 @@ struct SceneOptions {
 // Options of marching slices shared by `run` and `mesh` (--voxel, --block, --exhaustive-seeds).
 struct SlicesOptions {
     float voxel = 0;
+    std::string field = "spacing";
+    float spacing = 0;
     std::uint32_t block = SlicesSettings{}.block_cubes;
     bool exhaustive = false;
     void add_to(CLI::App& cmd);
+    // Copies the options into `s` (radius and limits untouched).
+    void apply(SlicesSettings& s) const;
 };
 
 // Options of the density volume shared by `run` and `mesh` (--kernel, --max-dim, --iso; --level-set for

@@ -130,9 +130,27 @@ void SlicesOptions::add_to(CLI::App& cmd) {
     cmd.add_option("--block", block, "Marching slices: cubes per block edge (n, a block is n^3 cubes)")
         ->capture_default_str()
         ->check(CLI::Range(2, 128));
+    cmd.add_option("--field", field,
+                   "Marching slices: 'spacing' puts the surface one radius outside the particles at any "
+                   "particle spacing (R_c and iso follow the data's spacing); 'classic' is the fixed field "
+                   "calibrated for particles two radii apart")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"spacing", "classic"}));
+    cmd.add_option("--spacing", spacing,
+                   "Marching slices, spacing field: the particles' spacing in world units (default: the "
+                   "median nearest-neighbour distance of the first frame)")
+        ->check(positive_number());
     cmd.add_flag("--exhaustive-seeds", exhaustive,
                  "Marching slices: also seed from every grid column, so empty cavities (bubbles holding no "
                  "particle) are found too; slower");
+}
+
+void SlicesOptions::apply(SlicesSettings& s) const {
+    s.voxel = voxel;
+    s.block_cubes = block;
+    s.exhaustive_seeds = exhaustive;
+    s.spacing = spacing;
+    parse_slice_field(field, s.field);
 }
 
 void SceneOptions::add_to(CLI::App& cmd, const std::string& frames_help) {

@@ -47,6 +47,7 @@ void extract_slices(const ParticleSet& particles, const MeshRequest& req, MeshRe
     result.voxel = slices.voxel();
     result.rc = slices.rc();
     result.iso = slices.iso();
+    result.slices_field = slice_field_name(s.field), result.spacing = slices.field().spacing;
     result.blocks = slices.stats().active_blocks;
     result.seeds = slices.stats().seeds, result.cubes = slices.stats().cubes;
     const TriangleMeshView view = out.view();

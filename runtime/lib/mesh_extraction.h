@@ -30,6 +30,8 @@ struct MeshResult {
     float radius = 0;
     std::uint32_t groups = 0, isolated = 0;                // scan
     float voxel = 0, rc = 0, iso = 0;                      // slices; volume (rc: the kernel radius h)
+    std::string slices_field;                              // slices: "spacing" or "classic"
+    float spacing = 0;                                     // slices, spacing field: the spacing it used
     std::uint32_t blocks = 0;                              // slices: non-empty blocks
     std::uint64_t seeds = 0, cubes = 0;                    // slices: seed cubes, cubes swept
     double total_ms = 0;                                   // median graph wall time

@@ -9,6 +9,7 @@
 #include "jobs/angle_normals.h"
 #include "jobs/bin_sort.h"
 #include "jobs/block_bins.h"
+#include "jobs/nearest_spacing.h"
 #include "jobs/weld_indices.h"
 
 namespace rivulet {
@@ -57,18 +58,39 @@ SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max
     if (max_particles == 0 || max_particles > (std::size_t(1) << 28))
         throw std::invalid_argument(
             fmt::format("particle capacity must be in [1, 2^28], got {}", max_particles));
-    rc_ = settings.rc();
-    iso_ = settings.iso_value();
     voxel_ = settings.voxel_size();
     grid_.set_voxel(voxel_);
-    grid_.rc = rc_;
     grid_.set_block_cubes(settings.block_cubes);
+    // Until the spacing field is measured (first non-empty frame), the grid claims the widest reach any
+    // spacing can give, so sweep scratch reserved before then is large enough.
+    field_resolved_ = settings.field == SliceField::kClassic || settings.spacing > 0;
+    apply_field(field_resolved_ ? settings.field_values(0) : SliceFieldValues{settings.max_rc(), 0, 0});
+}
+
+void SlicesExtractor::apply_field(const SliceFieldValues& field) {
+    field_ = field;
+    rc_ = field.rc, iso_ = field.iso;
+    grid_.rc = rc_;
     // A particle in cell c reaches the corners within R_c, in exact arithmetic [c - ceil(R) + 1, c +
     // ceil(R)] for R = R_c / voxel; the grid claims [c - reach, c + reach + 1] with reach = ceil(R), one
     // corner more on each side, a whole voxel of margin against rounding of cells and distances (was
     // ceil(R) + 1: every column lookup then scanned a fifth more entries, and blocks listed more
     // particles).
     grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ / voxel_));
+}
+
+void SlicesExtractor::resolve_field(ConstPositions p, const float lo[3], const float hi[3]) {
+    const float cell = static_cast<float>(kMaxFieldSpacing) * settings_.radius;
+    for (int a = 0; a < 3; ++a)
+        if ((double(hi[a]) - double(lo[a])) / voxel_ > settings_.max_grid_cubes)
+            throw std::length_error(
+                fmt::format("marching slices grid needs {} cubes along an axis (limit {}): raise --voxel",
+                            (double(hi[a]) - double(lo[a])) / voxel_, settings_.max_grid_cubes));
+    std::vector<std::uint32_t> heads(nearest_spacing_table(p.size()) + 1), order(p.size());
+    std::vector<float> nearest(kSpacingSamples);
+    const float spacing = nearest_spacing(p, lo, cell, kSpacingSamples, {heads, order, nearest});
+    apply_field(settings_.field_values(spacing));
+    field_resolved_ = true;
 }
 
 SlicesExtractor::~SlicesExtractor() = default;
@@ -149,6 +171,7 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
             for (std::size_t i = 0; i < particles_; ++i)
                 if (!std::isfinite(axes[a][i]))
                     throw std::invalid_argument(fmt::format("particle {} has a non-finite coordinate", i));
+    if (!field_resolved_) resolve_field(p, lo, hi);
     float origin[3];
     std::uint32_t nb[3];
     for (int a = 0; a < 3; ++a) {

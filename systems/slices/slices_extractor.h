@@ -54,7 +54,13 @@ class SlicesExtractor {
     SlicesExtractor(const SlicesExtractor&) = delete;
     SlicesExtractor& operator=(const SlicesExtractor&) = delete;
 
+    static constexpr std::uint32_t kSpacingSamples = 1024;  // particles whose nearest distance sets it
+
     const SlicesSettings& settings() const { return settings_; }
+    // The field's R_c, iso and the spacing they were calibrated for; the spacing field measures the data
+    // at the first non-empty frame and keeps that for later frames (a sequence's surface does not
+    // breathe with the estimate). Until then rc() is the widest R_c the settings allow.
+    const SliceFieldValues& field() const { return field_; }
     float rc() const { return rc_; }
     float iso() const { return iso_; }
     float voxel() const { return voxel_; }
@@ -113,9 +119,14 @@ class SlicesExtractor {
     // needs more than any before).
     void grow_scratch(std::uint32_t particles, std::uint32_t cache_entries);
     std::uint32_t owner_of(std::uint64_t key) const;
+    void apply_field(const SliceFieldValues& field);
+    // Measures the data's spacing (jobs/nearest_spacing.h) and sets the spacing field from it (serial).
+    void resolve_field(ConstPositions p, const float lo[3], const float hi[3]);
 
     SlicesSettings settings_;
     std::size_t max_particles_;
+    SliceFieldValues field_;
+    bool field_resolved_ = false;
     float rc_ = 0, iso_ = 0, voxel_ = 0;
     SliceGrid grid_;
 

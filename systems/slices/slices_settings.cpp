@@ -1,14 +1,25 @@
 #include "systems/slices/slices_settings.h"
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <cmath>
 
 #include "jobs/slice_field.h"
 
 namespace rivulet {
 
-double calibrated_iso(double rc_factor) {
-    const double rc = rc_factor, d = 2.0;
+const char* slice_field_name(SliceField field) {
+    return field == SliceField::kClassic ? "classic" : "spacing";
+}
+
+bool parse_slice_field(const std::string& name, SliceField& out) {
+    if (name == "spacing") return out = SliceField::kSpacing, true;
+    if (name == "classic") return out = SliceField::kClassic, true;
+    return false;
+}
+
+double lattice_mean_field(double rc_factor, double spacing) {
+    const double rc = rc_factor, d = spacing;
     const int reach = static_cast<int>(std::ceil(rc / d)) + 1;
     double total = 0;
     for (int a = 0; a < 8; ++a)
@@ -29,8 +40,43 @@ double calibrated_iso(double rc_factor) {
     return total / 64.0;
 }
 
-float SlicesSettings::iso_value() const {
-    return iso > 0 ? iso : static_cast<float>(calibrated_iso(rc_factor));
+double calibrated_iso(double rc_factor) {
+    return lattice_mean_field(rc_factor, 2.0);
+}
+
+double lone_particle_iso(double rc_factor) {
+    const double a = 1.0 - 1.0 / (rc_factor * rc_factor);
+    return 0.25 * a * a;
+}
+
+SpacingField spacing_field(double spacing) {
+    const double d =
+        std::isnan(spacing) ? kMaxFieldSpacing : std::clamp(spacing, kMinFieldSpacing, kMaxFieldSpacing);
+    // The mean lattice field one radius up minus the lone particle's iso rises with R_c: negative near
+    // 1 (where hardly more than the particle below reaches), positive at 1.5 + d / 2 for every spacing
+    // in range (test SpacingFieldBracketsItsRoot; the root runs from 1.03 at d = 1/4 to 2.20 at d =
+    // 2). Bisection in double: the same answer on every machine.
+    double lo = 1.0, hi = 1.5 + 0.5 * d;
+    for (int i = 0; i < 40; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (lattice_mean_field(mid, d) > lone_particle_iso(mid) ? hi : lo) = mid;
+    }
+    const double rc = 0.5 * (lo + hi);
+    return {d, rc, lone_particle_iso(rc)};
+}
+
+SliceFieldValues SlicesSettings::field_values(float data_spacing) const {
+    if (field == SliceField::kClassic)
+        return {rc_factor * radius, iso > 0 ? iso : static_cast<float>(calibrated_iso(rc_factor)), 0.0f};
+    const float d = spacing > 0 ? spacing : data_spacing;
+    const SpacingField f = spacing_field(double(d) / double(radius));
+    return {static_cast<float>(f.rc_factor) * radius, static_cast<float>(f.iso),
+            static_cast<float>(f.spacing) * radius};
+}
+
+float SlicesSettings::max_rc() const {
+    if (field == SliceField::kClassic) return rc_factor * radius;
+    return static_cast<float>(1.5 + 0.5 * kMaxFieldSpacing) * radius;
 }
 
 std::string SlicesSettings::validate() const {
@@ -47,9 +93,12 @@ std::string SlicesSettings::validate() const {
         return fmt::format("R_c factor must be in [1, 8], got {}", rc_factor);
     // The lookup cache packs a particle's reach box into 16-bit rows (and a finer voxel is absurd: a
     // particle would touch millions of corners).
-    if (rc() / voxel_size() > float(kMaxReach))
+    if (max_rc() / voxel_size() > float(kMaxReach))
         return fmt::format("--voxel {} is finer than R_c / {} ({}): a particle would reach too many corners",
-                           voxel_size(), kMaxReach, rc() / float(kMaxReach));
+                           voxel_size(), kMaxReach, max_rc() / float(kMaxReach));
+    if (!std::isfinite(spacing) || spacing < 0)
+        return fmt::format("--spacing must be a positive number, got {}", spacing);
+    if (field != SliceField::kSpacing && field != SliceField::kClassic) return "unknown slices field";
     if (!std::isfinite(iso) || iso < 0) return fmt::format("iso threshold must be positive, got {}", iso);
     if (iso >= 0.25f * 64) return fmt::format("iso threshold {} is unreachable by the field", iso);
     if (max_blocks == 0 || max_triangles == 0 || max_grid_cubes == 0)

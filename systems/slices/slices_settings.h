@@ -1,24 +1,40 @@
 #pragma once
-// Parameters of marching slices (seed 004 §3.2) and how the particle radius maps onto the field.
+// Parameters of marching slices (seed 004 §3.2) and how the particle radius maps onto the field
+// F = sum of f(|s - p|) over particles within R_c, fluid where F >= iso (jobs/slice_field.h).
 //
-//   R_c = rc_factor * radius                (default rc_factor 2: neighbours one diameter apart blend)
-//   iso = calibrated_iso(rc_factor)         when iso <= 0 (the default): the mean field one radius above
-//                                           the top layer of a cubic lattice of spacing 2 * radius, so a
-//                                           flat fluid surface lies about one radius outside the outermost
-//                                           particle centres (for rc_factor 2: iso = 0.1105, and a lone
-//                                           particle gives a sphere of radius 1.158 * radius)
-//   voxel = radius / 2                      when voxel <= 0
+// The spacing field (default): R_c and iso follow the data's particle spacing d (`spacing`, or the
+//   median nearest-neighbour distance of the first non-empty frame): spacing_field(d / radius) is the
+//   one pair for which a lone particle is a sphere of `radius` and a flat layer of particles d apart
+//   has its surface one radius outside its outer centres, so the surface sits where the particles'
+//   spheres are, however densely they sample the fluid. R_c runs from 1.03 radii (d = r / 4) to 2.20
+//   (d = 2 r).
+// The classic field: R_c = rc_factor * radius (default 2) and iso = calibrated_iso(rc_factor) when
+//   iso <= 0, the mean field one radius above a cubic lattice of spacing 2 * radius: right for data two
+//   radii apart only (a lone particle gives a sphere of 1.158 radii; denser data push the surface out).
+// voxel = radius / 2 when voxel <= 0.
 #include <cstdint>
 #include <string>
 
 namespace rivulet {
 
+enum class SliceField : std::uint8_t { kSpacing, kClassic };
+const char* slice_field_name(SliceField field);  // "spacing", "classic"
+bool parse_slice_field(const std::string& name, SliceField& out);
+
+// R_c and iso of one frame's field.
+struct SliceFieldValues {
+    float rc = 0, iso = 0;
+    float spacing = 0;  // the data spacing they were calibrated for (world units); 0 for the classic field
+};
+
 struct SlicesSettings {
-    float radius = 0.02f;                      // particle radius, world units
-    float voxel = 0;                           // cube edge; <= 0: radius / 2
-    std::uint32_t block_cubes = 40;            // n: a block is n^3 cubes
-    float rc_factor = 2.0f;                    // R_c / radius
-    float iso = 0;                             // threshold on F; <= 0: calibrated_iso(rc_factor)
+    float radius = 0.02f;            // particle radius, world units
+    float voxel = 0;                 // cube edge; <= 0: radius / 2
+    std::uint32_t block_cubes = 40;  // n: a block is n^3 cubes
+    SliceField field = SliceField::kSpacing;
+    float spacing = 0;                         // spacing field: particle spacing; <= 0: measured
+    float rc_factor = 2.0f;                    // classic field: R_c / radius
+    float iso = 0;                             // classic field: threshold; <= 0: calibrated_iso(rc_factor)
     std::uint32_t max_blocks = 1u << 20;       // non-empty blocks a frame may have
     std::uint64_t max_triangles = 1ull << 26;  // triangles a frame may have
     std::uint32_t max_grid_cubes = 1u << 20;   // cubes along any axis
@@ -27,14 +43,36 @@ struct SlicesSettings {
     bool exhaustive_seeds = false;
 
     float voxel_size() const { return voxel > 0 ? voxel : 0.5f * radius; }
-    float rc() const { return rc_factor * radius; }
-    float iso_value() const;
+    // The field for data `data_spacing` apart (world units; ignored by the classic field, and by the
+    // spacing field when `spacing` is set).
+    SliceFieldValues field_values(float data_spacing) const;
+    // The most R_c any frame can get: the classic R_c, or the spacing field's at the widest spacing.
+    float max_rc() const;
     // Empty when valid, else what is wrong.
     std::string validate() const;
 };
 
-// F one unit above the top layer of a semi-infinite cubic lattice of spacing 2 (radius 1, R_c =
+// F one unit above the top layer of a semi-infinite cubic lattice of `spacing` (radius 1, R_c =
 // rc_factor), averaged over 8 x 8 points of a lattice cell.
+double lattice_mean_field(double rc_factor, double spacing);
+// The classic field's iso: lattice_mean_field(rc_factor, 2).
 double calibrated_iso(double rc_factor);
+// The iso at which a lone particle's field, f alone, is a sphere of radius 1 (R_c = rc_factor).
+double lone_particle_iso(double rc_factor);
+
+// The spacing field's range of particle spacings, in radii: closer data are taken as 1/4 apart, sparser
+// as 2 (beyond one diameter apart particles do not touch, and a flat lattice has no surface one radius
+// above it that a lone particle's sphere would also keep).
+inline constexpr double kMinFieldSpacing = 0.25, kMaxFieldSpacing = 2.0;
+
+// The spacing field's rule for particles `spacing` radii apart (clamped to the range above): the one
+// R_c (in radii) and iso for which a lone particle is a sphere of radius 1 and a flat cubic lattice of
+// that spacing has its surface, on average, one radius above its top centres.
+struct SpacingField {
+    double spacing = 2;      // the clamped spacing, radii
+    double rc_factor = 2.2;  // R_c / radius
+    double iso = 0.157;
+};
+SpacingField spacing_field(double spacing);
 
 }  // namespace rivulet

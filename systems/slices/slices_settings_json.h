@@ -8,6 +8,7 @@
 namespace rivulet {
 
 nlohmann::json slices_settings_to_json(const SlicesSettings& settings);
+// A document without "field" reads as the classic field (what it meant before the spacing field).
 // Throws std::invalid_argument naming the key on unknown keys, wrong types or invalid settings.
 SlicesSettings slices_settings_from_json(const nlohmann::json& doc, const std::string& origin);
 
