@@ -1,6 +1,6 @@
 // The marching-slices spacing field (systems/slices/slices_settings.h): the surface lies one radius
 // outside the particles whatever their spacing; a lone particle is a sphere of one radius; the data's
-// spacing is measured (jobs/nearest_spacing.h).
+// spacing is measured (jobs/particle_spacing.h).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "jobs/nearest_spacing.h"
+#include "jobs/particle_spacing.h"
 #include "support/test_support.h"
 #include "systems/slices/slices_extractor.h"
 
@@ -39,10 +39,10 @@ SlicesSettings spacing_settings(float radius) {
 }
 
 float measured_spacing(const Cloud& c, float cell) {
-    std::vector<std::uint32_t> heads(nearest_spacing_table(c.size()) + 1), order(c.size());
-    std::vector<float> nearest(1024);
+    std::vector<std::uint32_t> heads(spacing_table_size(c.size()) + 1), order(c.size());
+    std::vector<float> values(1024);
     const float origin[3] = {-100, -100, -100};
-    return nearest_spacing(c.pos(), origin, cell, 1024, {heads, order, nearest});
+    return particle_spacing(c.pos(), origin, cell, 1024, {heads, order, values});
 }
 
 // A slab 12 radii square, at least 3 radii thick, of a cubic lattice `spacing` apart, its top layer at
@@ -112,19 +112,34 @@ TEST(SpacingField, BisectionBracketsItsRootAndRcGrowsWithSpacing) {
     EXPECT_NEAR(calibrated_iso(2.0), 0.1105, 1e-4) << "the classic field is unchanged";
 }
 
-TEST(NearestSpacing, MedianNearestDistanceOfLatticesPilesAndLoners) {
-    Cloud lattice;
-    for (int k = 0; k < 10; ++k)
-        for (int j = 0; j < 10; ++j)
-            for (int i = 0; i < 10; ++i) lattice.add(0.3f * float(i), 0.3f * float(j), 0.3f * float(k));
-    EXPECT_NEAR(measured_spacing(lattice, 1.0f), 0.3f, 1e-5f);
-    EXPECT_NEAR(measured_spacing(lattice, 0.2f), 0.2f, 1e-6f) << "capped at the cell";
+TEST(ParticleSpacing, TheLatticeEdgeOfTheSameNumberDensity) {
+    Cloud lattice, shaken;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> move(-0.4f * 0.3f, 0.4f * 0.3f);
+    for (int k = 0; k < 12; ++k)
+        for (int j = 0; j < 12; ++j)
+            for (int i = 0; i < 12; ++i) {
+                lattice.add(0.3f * float(i), 0.3f * float(j), 0.3f * float(k));
+                shaken.add(0.3f * float(i) + move(rng), 0.3f * float(j) + move(rng),
+                           0.3f * float(k) + move(rng));
+            }
+    EXPECT_NEAR(measured_spacing(lattice, 1.0f), 0.3f, 0.003f);
+    EXPECT_EQ(measured_spacing(lattice, 0.2f), 0.2f) << "capped";
+    // Particles moved by up to 0.4 spacings: their nearest neighbours sit far closer than 0.3, their
+    // number density is the lattice's; its local fluctuations read a few percent dense.
+    EXPECT_NEAR(measured_spacing(shaken, 1.0f), 0.3f, 0.015f);
     Cloud one;
     one.add(1, 2, 3);
     EXPECT_EQ(measured_spacing(one, 0.5f), 0.5f);
     Cloud pile;  // 20000 coincident particles: bounded work, spacing 0
     for (int i = 0; i < 20000; ++i) pile.add(0.5f, 0.5f, 0.5f);
     EXPECT_EQ(measured_spacing(pile, 0.5f), 0.0f);
+    // A slab three layers thick (two thirds of it on the surface) still reads its lattice spacing.
+    Cloud slab;
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 20; ++j)
+            for (int i = 0; i < 20; ++i) slab.add(0.3f * float(i), 0.3f * float(j), 0.3f * float(k));
+    EXPECT_NEAR(measured_spacing(slab, 1.0f), 0.3f, 0.01f);
 }
 
 TEST(SpacingField, FlatLayersAtAnySpacingHaveTheirSurfaceOneRadiusOut) {
@@ -140,12 +155,13 @@ TEST(SpacingField, FlatLayersAtAnySpacingHaveTheirSurfaceOneRadiusOut) {
             ASSERT_GT(o.count, 50u) << ratio;
             EXPECT_NEAR(o.mean, 1.0, 0.15) << "spacing " << ratio << " r, jitter " << jitter;
             if (jitter == 0) {
-                EXPECT_NEAR(field.spacing, spacing, 1e-5f) << "measured spacing";
+                // Thin slabs (three layers at 1.5 r) are mostly surface: a few percent over.
+                EXPECT_NEAR(field.spacing, spacing, 0.04f * spacing) << "measured spacing";
                 EXPECT_GT(o.lo, 0.9) << ratio;
                 EXPECT_LT(o.hi, 1.1) << ratio;
             } else {
-                // Jittered particles two radii apart leave dips between them (the classic field's too).
-                EXPECT_GT(o.lo, 0.4) << ratio;
+                // Jittered particles two radii apart leave dips between them (the classic field's deeper).
+                EXPECT_GT(o.lo, 0.6) << ratio;
                 EXPECT_LT(o.hi, 1.35) << ratio;
             }
             EXPECT_EQ(open_edges(m), 0u);

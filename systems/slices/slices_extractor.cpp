@@ -9,7 +9,7 @@
 #include "jobs/angle_normals.h"
 #include "jobs/bin_sort.h"
 #include "jobs/block_bins.h"
-#include "jobs/nearest_spacing.h"
+#include "jobs/particle_spacing.h"
 #include "jobs/weld_indices.h"
 
 namespace rivulet {
@@ -86,9 +86,9 @@ void SlicesExtractor::resolve_field(ConstPositions p, const float lo[3], const f
             throw std::length_error(
                 fmt::format("marching slices grid needs {} cubes along an axis (limit {}): raise --voxel",
                             (double(hi[a]) - double(lo[a])) / voxel_, settings_.max_grid_cubes));
-    std::vector<std::uint32_t> heads(nearest_spacing_table(p.size()) + 1), order(p.size());
-    std::vector<float> nearest(kSpacingSamples);
-    const float spacing = nearest_spacing(p, lo, cell, kSpacingSamples, {heads, order, nearest});
+    std::vector<std::uint32_t> heads(spacing_table_size(p.size()) + 1), order(p.size());
+    std::vector<float> values(kSpacingSamples);
+    const float spacing = particle_spacing(p, lo, cell, kSpacingSamples, {heads, order, values});
     apply_field(settings_.field_values(spacing));
     field_resolved_ = true;
 }

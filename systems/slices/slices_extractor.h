@@ -54,7 +54,7 @@ class SlicesExtractor {
     SlicesExtractor(const SlicesExtractor&) = delete;
     SlicesExtractor& operator=(const SlicesExtractor&) = delete;
 
-    static constexpr std::uint32_t kSpacingSamples = 1024;  // particles whose nearest distance sets it
+    static constexpr std::uint32_t kSpacingSamples = 1024;  // particles that measure the spacing
 
     const SlicesSettings& settings() const { return settings_; }
     // The field's R_c, iso and the spacing they were calibrated for; the spacing field measures the data
@@ -120,7 +120,7 @@ class SlicesExtractor {
     void grow_scratch(std::uint32_t particles, std::uint32_t cache_entries);
     std::uint32_t owner_of(std::uint64_t key) const;
     void apply_field(const SliceFieldValues& field);
-    // Measures the data's spacing (jobs/nearest_spacing.h) and sets the spacing field from it (serial).
+    // Measures the data's spacing (jobs/particle_spacing.h) and sets the spacing field from it (serial).
     void resolve_field(ConstPositions p, const float lo[3], const float hi[3]);
 
     SlicesSettings settings_;
