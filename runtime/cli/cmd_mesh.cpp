@@ -7,6 +7,7 @@
 #include "cli/commands.h"
 #include "cli/progress_bar.h"
 #include "jobs/mesh_hash.h"
+#include "jobs/mesh_quality.h"
 #include "runtime/lib/mesh_extraction.h"
 #include "runtime/lib/thread_control.h"
 #include "systems/io/mesh_io.h"
@@ -44,6 +45,11 @@ nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
                         {"stages", stages},
                         {"mesh_hash", hash_hex(r.hash)},
                         {"radius", r.radius}};
+    const MeshQuality q = mesh_quality(r.mesh.vertices, 6, r.mesh.indices);
+    j["quality"] = {{"degenerate_triangles", q.degenerate},  {"min_angle_deg", q.min_angle_deg},
+                    {"min_angle_p05_deg", q.min_angle_p05},  {"mean_min_angle_deg", q.mean_min_angle_deg},
+                    {"median_radius_ratio", q.median_ratio}, {"radius_ratio_p95", q.ratio_p95},
+                    {"max_radius_ratio", q.max_ratio}};
     if (method == "slices") {
         j["voxel"] = r.voxel, j["rc"] = r.rc, j["iso"] = r.iso, j["blocks"] = r.blocks;
         j["field"] = r.slices_field, j["spacing"] = r.spacing;
