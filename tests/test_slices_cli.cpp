@@ -134,3 +134,23 @@ TEST(SlicesCli, BadInputsFailWithAClearMessage) {
         EXPECT_EQ(r.output.find("terminate"), std::string::npos) << c.args;
     }
 }
+
+TEST(SlicesCli, MeshSmoothsKeepingTheVolumeAndReportsTriangleQuality) {
+    const std::string in = rivulet::test::temp_path("smooth.xyz"),
+                      json = rivulet::test::temp_path("smooth.json"),
+                      raw = rivulet::test::temp_path("raw.json");
+    write_text(in, blob_xyz(400, 0, 4));
+    ASSERT_EQ(run_cli("mesh " + in + " --method slices --radius 0.03 --json " + raw).status, 0);
+    const Result r = run_cli("mesh " + in + " --method slices --radius 0.03 --smooth 8 --json " + json);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto j = read_json(json), before = read_json(raw);
+    EXPECT_EQ(j["smoothing"]["iterations"], 8);
+    EXPECT_NEAR(j["smoothing"]["volume_after"].get<double>() / j["smoothing"]["volume_before"].get<double>(),
+                1.0, 0.01);
+    EXPECT_EQ(j["triangles"], before["triangles"]) << "smoothing keeps the topology";
+    EXPECT_NE(j["mesh_hash"], before["mesh_hash"]);
+    EXPECT_GT(j["quality"]["min_angle_p05_deg"].get<double>(),
+              before["quality"]["min_angle_p05_deg"].get<double>());
+    EXPECT_FALSE(before.contains("smoothing"));
+    EXPECT_NE(run_cli("mesh " + in + " --method slices --radius 0.03 --smooth -1").status, 0);
+}

@@ -1,6 +1,7 @@
 // rivulet mesh: particles from files to triangle meshes, timed without file I/O.
 #include <fmt/format.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -8,6 +9,7 @@
 #include "cli/progress_bar.h"
 #include "jobs/mesh_hash.h"
 #include "jobs/mesh_quality.h"
+#include "jobs/mesh_smoothing.h"
 #include "runtime/lib/mesh_extraction.h"
 #include "runtime/lib/thread_control.h"
 #include "systems/io/mesh_io.h"
@@ -24,6 +26,7 @@ struct MeshOptions {
     float radius = 0;
     int threads = 0;
     int repeat = 1;
+    int smooth = 0;
     std::string out;
     std::string json;
     ScanOptions scan;
@@ -118,7 +121,20 @@ int run(const MeshOptions& o) {
     ProgressBar bar("meshing", static_cast<int>(jobs.size()));
     for (std::size_t i = 0; i < jobs.size(); ++i) {
         const ParticleCloud cloud = read_particles(jobs[i].in);
-        const MeshResult r = extract_mesh(cloud, req);
+        MeshResult r = extract_mesh(cloud, req);
+        nlohmann::json smoothing;
+        if (o.smooth > 0 && req.mesh_volume) {
+            const auto start = std::chrono::steady_clock::now();
+            const SmoothingReport s = smooth_mesh(r.mesh.vertices, r.mesh.indices, o.smooth);
+            const double ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            r.hash = mesh_hash(r.mesh);
+            smoothing = {{"iterations", o.smooth},
+                         {"ms", ms},
+                         {"components", s.components},
+                         {"volume_before", s.volume_before},
+                         {"volume_after", s.volume_after}};
+        }
         if (!jobs[i].out.empty()) {
             if (req.mesh_volume)
                 write_mesh(jobs[i].out, r.mesh.vertices, r.mesh.indices);
@@ -132,6 +148,7 @@ int run(const MeshOptions& o) {
                        r.rc / r.voxel, req.volume.max_dim);
         nlohmann::json j = mesh_json(r, o.method);
         j["input"] = jobs[i].in;
+        if (!smoothing.is_null()) j["smoothing"] = smoothing;
         if (!sequence && r.volume) {
             const DensityGrid& g = r.volume->grid;
             fmt::print(
@@ -175,7 +192,11 @@ void add_mesh_command(CLI::App& app, int& status) {
     cmd->add_option("--out", opts->out,
                     "Mesh file to write: .obj, .ply or .vtk; with --method volume also .vdb, the density "
                     "as an OpenVDB grid (a {} pattern for sequences)");
-    cmd->add_option("--json", opts->json, "Write counts, timings and mesh_hash as JSON");
+    cmd->add_option("--json", opts->json, "Write counts, timings, triangle quality and mesh_hash as JSON");
+    cmd->add_option("--smooth", opts->smooth,
+                    "Taubin smoothing iterations after meshing, each component's volume kept (0: none)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 10000));
     opts->scan.add_to(*cmd);
     opts->slices.add_to(*cmd);
     opts->volume.add_to(*cmd, true);

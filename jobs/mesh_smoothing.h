@@ -1,0 +1,40 @@
+#pragma once
+// Taubin λ|μ smoothing of a triangle mesh (Taubin 1995, "A signal processing approach to fair surface
+// design") with a volume correction per connected component, for `mesh --smooth N`: marching cubes over a
+// particle field leaves an orange peel of voxel-sized bumps on what should be flat water. Each of the N
+// iterations is a shrinking Laplacian step (λ = 0.5) and an inflating one (μ = -0.53), which damps the
+// bumps and keeps the large shapes; then every component's vertices move along their normals by one
+// common distance that restores its enclosed volume (smoothing a droplet still rounds it, it does not
+// shrink it). Normals are recomputed, area-weighted. Topology never changes.
+//
+// Differs from Löschner et al. 2023 (splashsurf), which weight each vertex's step by how many particles
+// are near it: here every vertex takes the same step; their weighting is the next step (docs).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace rivulet {
+
+// Vertex neighbours from the triangles, compressed rows: neighbours of v are
+// neighbours[offsets[v] .. offsets[v + 1]), ascending, each once.
+struct MeshAdjacency {
+    std::vector<std::uint32_t> offsets, neighbours;
+};
+MeshAdjacency mesh_adjacency(std::span<const std::uint32_t> indices, std::size_t vertex_count);
+
+// One Laplacian step on vertices [begin, end): out = p + factor (mean of neighbours - p), positions at
+// `stride` floats per vertex (the first three), others copied. A vertex without neighbours stays.
+void laplacian_step(std::span<const float> in, std::span<float> out, std::size_t stride,
+                    const MeshAdjacency& adjacency, float factor, std::size_t begin, std::size_t end);
+
+struct SmoothingReport {
+    std::uint32_t components = 0;
+    double volume_before = 0, volume_after = 0;  // signed, summed over components
+};
+
+// Smooths `vertices6` (position and normal per vertex) in place; `iterations` Taubin pairs. Serial.
+SmoothingReport smooth_mesh(std::span<float> vertices6, std::span<const std::uint32_t> indices,
+                            int iterations);
+
+}  // namespace rivulet
