@@ -11,16 +11,13 @@
 #include "jobs/density_splat.h"
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/volume_jobs.h"
+#include "support/test_support.h"
 #include "systems/volume/volume_builder.h"
 
 namespace rivulet {
 namespace {
 
-struct Cloud {
-    std::vector<float> x, y, z;
-    ConstPositions view() const { return {x, y, z}; }
-    void add(float a, float b, float c) { x.push_back(a), y.push_back(b), z.push_back(c); }
-};
+using Cloud = test::PointCloud;
 
 // Builds the volume of `cloud` with the frame's jobs on `threads` workers.
 void build(const Cloud& cloud, const VolumeSettings& s, DensityVolume& out, int threads = 2) {
@@ -28,7 +25,7 @@ void build(const Cloud& cloud, const VolumeSettings& s, DensityVolume& out, int 
     builder.prepare(out);
     FrameGraph graph;
     add_volume_jobs(
-        graph, builder, [&cloud] { return cloud.view(); }, [&out]() -> DensityVolume& { return out; });
+        graph, builder, [&cloud] { return cloud.pos(); }, [&out]() -> DensityVolume& { return out; });
     tbb::task_arena arena(threads);
     arena.execute([&] { graph.run(); });
 }

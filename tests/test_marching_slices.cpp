@@ -27,12 +27,7 @@ using namespace rivulet;
 
 namespace {
 
-struct Cloud {
-    std::vector<float> x, y, z;
-    void add(float a, float b, float c) { x.push_back(a), y.push_back(b), z.push_back(c); }
-    ConstPositions pos() const { return {x, y, z}; }
-    std::size_t size() const { return x.size(); }
-};
+using Cloud = test::PointCloud;
 
 // The classic field by default: these tests pin the extractor's mechanics to its fixed R_c = 2 radii;
 // the spacing field's rule is tested in test_slices_field.cpp, its mechanics here where named.
@@ -47,10 +42,7 @@ SlicesSettings settings_for(float radius, std::uint32_t block, float voxel = 0,
 }
 
 std::vector<float> positions_of(const SurfaceMesh& m) {
-    std::vector<float> p;
-    for (std::size_t v = 0; v < m.vertex_count; ++v)
-        p.insert(p.end(), m.vertices6.data() + 6 * v, m.vertices6.data() + 6 * v + 3);
-    return p;
+    return test::strided_positions({m.vertices6.data(), 6 * m.vertex_count}, 6);
 }
 std::vector<std::uint32_t> indices_of(const SurfaceMesh& m) {
     return {m.indices.data(), m.indices.data() + m.index_count};

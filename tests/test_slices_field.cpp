@@ -16,12 +16,7 @@ using namespace rivulet;
 
 namespace {
 
-struct Cloud {
-    std::vector<float> x, y, z;
-    void add(float a, float b, float c) { x.push_back(a), y.push_back(b), z.push_back(c); }
-    ConstPositions pos() const { return {x, y, z}; }
-    std::size_t size() const { return x.size(); }
-};
+using Cloud = test::PointCloud;
 
 SurfaceMesh extract(const Cloud& c, const SlicesSettings& s, SliceFieldValues* field = nullptr) {
     SlicesExtractor ex(s, c.size());
@@ -62,10 +57,8 @@ Cloud flat_layer(float radius, float spacing, float jitter, unsigned seed) {
 }
 
 std::size_t open_edges(const SurfaceMesh& m) {
-    std::vector<float> p;
-    for (std::size_t v = 0; v < m.vertex_count; ++v)
-        p.insert(p.end(), m.vertices6.data() + 6 * v, m.vertices6.data() + 6 * v + 3);
-    return test::count_open_edges(p, {m.indices.data(), m.indices.data() + m.index_count});
+    return test::count_open_edges(test::strided_positions({m.vertices6.data(), 6 * m.vertex_count}, 6),
+                                  {m.indices.data(), m.index_count});
 }
 
 struct Offsets {

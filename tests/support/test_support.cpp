@@ -15,6 +15,14 @@
 
 namespace rivulet::test {
 
+std::vector<float> strided_positions(std::span<const float> vertices, std::size_t stride) {
+    std::vector<float> p;
+    p.reserve(vertices.size() / stride * 3);
+    for (std::size_t v = 0; v + stride <= vertices.size(); v += stride)
+        p.insert(p.end(), vertices.begin() + std::ptrdiff_t(v), vertices.begin() + std::ptrdiff_t(v + 3));
+    return p;
+}
+
 std::size_t count_open_edges(std::span<const float> p, std::span<const std::uint32_t> idx, float weld) {
     const std::size_t nv = p.size() / 3;
     std::vector<std::uint32_t> canon(nv);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "jobs/particle_spans.h"
 #include "systems/scenes/scene.h"
 
 namespace rivulet::test {
@@ -26,6 +27,16 @@ BoxMesh box_mesh(const float (&lo)[3], const float (&hi)[3]);
 // `weld` (0 = compare indices only).
 std::size_t count_open_edges(std::span<const float> positions3, std::span<const std::uint32_t> indices,
                              float weld = 0.0f);
+// The first three of every `stride` floats: positions out of interleaved vertices.
+std::vector<float> strided_positions(std::span<const float> vertices, std::size_t stride);
+
+// Particle positions as the tests build them, viewed as the jobs take them.
+struct PointCloud {
+    std::vector<float> x, y, z;
+    void add(float a, float b, float c) { x.push_back(a), y.push_back(b), z.push_back(c); }
+    ConstPositions pos() const { return {x, y, z}; }
+    std::size_t size() const { return x.size(); }
+};
 
 std::string temp_path(const std::string& name);
 
