@@ -209,3 +209,32 @@ TEST(SpacingField, ABallOfDenseParticlesIsOneRadiusLarger) {
         EXPECT_EQ(open_edges(m), 0u) << ratio;
     }
 }
+
+TEST(SpacingField, FixedByTheFirstFrameThatFillsTheSampleMeasuredPerFrameBefore) {
+    const float radius = 0.1f;
+    auto lattice = [](float spacing) {
+        Cloud c;
+        for (int k = 0; k < 12; ++k)
+            for (int j = 0; j < 12; ++j)
+                for (int i = 0; i < 12; ++i)
+                    c.add(spacing * float(i), spacing * float(j), spacing * float(k));
+        return c;
+    };
+    Cloud pair;
+    pair.add(0, 0, 0);
+    pair.add(0.1f, 0, 0);
+    const Cloud wide = lattice(0.2f), close = lattice(0.1f);
+    ASSERT_GE(wide.size(), SlicesExtractor::kSpacingSamples);
+    SlicesExtractor ex(spacing_settings(radius), wide.size());
+    SurfaceMesh m;
+    ex.extract_serial(pair.pos(), m);
+    // Two particles have the number density of a much wider lattice.
+    EXPECT_GT(ex.field().spacing, 0.15f) << "measured for the pair";
+    ex.extract_serial(close.pos(), m);
+    EXPECT_NEAR(ex.field().spacing, 0.1f, 2e-3f) << "measured again";
+    ex.extract_serial(wide.pos(), m);
+    EXPECT_NEAR(ex.field().spacing, 0.1f, 2e-3f) << "kept from the first frame of 1,024 particles or more";
+    SlicesExtractor fresh(spacing_settings(radius), wide.size());
+    fresh.extract_serial(wide.pos(), m);
+    EXPECT_NEAR(fresh.field().spacing, 0.2f, 4e-3f);
+}

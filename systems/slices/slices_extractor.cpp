@@ -90,7 +90,9 @@ void SlicesExtractor::resolve_field(ConstPositions p, const float lo[3], const f
     std::vector<float> values(kSpacingSamples);
     const float spacing = particle_spacing(p, lo, cell, kSpacingSamples, {heads, order, values});
     apply_field(settings_.field_values(spacing));
-    field_resolved_ = true;
+    // A frame with fewer particles than the sample (a fountain's first streams) is measured for itself
+    // only: the spacing is fixed by the first frame that fills the sample.
+    field_resolved_ = p.size() >= kSpacingSamples;
 }
 
 SlicesExtractor::~SlicesExtractor() = default;

@@ -58,8 +58,9 @@ class SlicesExtractor {
 
     const SlicesSettings& settings() const { return settings_; }
     // The field's R_c, iso and the spacing they were calibrated for; the spacing field measures the data
-    // at the first non-empty frame and keeps that for later frames (a sequence's surface does not
-    // breathe with the estimate). Until then rc() is the widest R_c the settings allow.
+    // at the first frame of at least kSpacingSamples particles and keeps that for later frames (a
+    // sequence's surface does not breathe with the estimate); smaller frames before it are measured each
+    // for itself. Until the first non-empty frame rc() is the widest R_c the settings allow.
     const SliceFieldValues& field() const { return field_; }
     float rc() const { return rc_; }
     float iso() const { return iso_; }
