@@ -688,6 +688,8 @@ TEST(MarchingSlices, RejectsBadSettingsAndInputs) {
     SlicesSettings s;
     s.radius = -1;
     EXPECT_THROW(SlicesExtractor(s, 10), std::invalid_argument);
+    s.radius = 1e-30f;  // R_c^2 underflows: every frame would be empty
+    EXPECT_THROW(SlicesExtractor(s, 10), std::invalid_argument);
     s = settings_for(0.1f, 1);
     EXPECT_THROW(SlicesExtractor(s, 10), std::invalid_argument);
     s = settings_for(0.1f, 16, 1.0f);  // voxel coarser than 4 radii

@@ -11,6 +11,7 @@
 #include "jobs/particle_spacing.h"
 #include "support/test_support.h"
 #include "systems/slices/slices_extractor.h"
+#include "systems/slices/slices_settings_json.h"
 
 using namespace rivulet;
 
@@ -237,4 +238,23 @@ TEST(SpacingField, FixedByTheFirstFrameThatFillsTheSampleMeasuredPerFrameBefore)
     SlicesExtractor fresh(spacing_settings(radius), wide.size());
     fresh.extract_serial(wide.pos(), m);
     EXPECT_NEAR(fresh.field().spacing, 0.2f, 4e-3f);
+}
+
+TEST(SpacingField, SettingsJsonRoundTripsTheFieldAndReadsOldFilesAsClassic) {
+    SlicesSettings s;
+    s.radius = 0.02f, s.spacing = 0.03f;
+    const SlicesSettings back = slices_settings_from_json(slices_settings_to_json(s), "test");
+    EXPECT_EQ(back.field, SliceField::kSpacing);
+    EXPECT_EQ(back.spacing, 0.03f);
+    nlohmann::json old = slices_settings_to_json(s);
+    old.erase("field");
+    EXPECT_EQ(slices_settings_from_json(old, "test").field, SliceField::kClassic) << "written before --field";
+    for (const nlohmann::json& bad : {nlohmann::json("fuzzy"), nlohmann::json(3)}) {
+        nlohmann::json doc = slices_settings_to_json(s);
+        doc["field"] = bad;
+        EXPECT_THROW(slices_settings_from_json(doc, "test"), std::invalid_argument) << bad;
+    }
+    nlohmann::json negative = slices_settings_to_json(s);
+    negative["spacing"] = -1;
+    EXPECT_THROW(slices_settings_from_json(negative, "test"), std::invalid_argument);
 }

@@ -82,6 +82,10 @@ float SlicesSettings::max_rc() const {
 std::string SlicesSettings::validate() const {
     if (!(radius > 0) || !std::isfinite(radius))
         return fmt::format("--radius must be a positive number, got {}", radius);
+    // The field squares distances in float: below this R_c^2 nears the smallest normal float and a
+    // frame would mesh to nothing, silently.
+    if (radius < 1e-15f)
+        return fmt::format("--radius {} is too small (at least 1e-15: scale the data up)", radius);
     if (!std::isfinite(voxel) || voxel < 0) return fmt::format("--voxel must be positive, got {}", voxel);
     if (voxel_size() > 4 * radius)
         return fmt::format(
