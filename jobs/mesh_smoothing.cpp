@@ -134,6 +134,8 @@ SmoothingReport smooth_mesh(std::span<float> vertices6, std::span<const std::uin
     std::vector<double> volume0(report.components), area(report.components), volume1(report.components);
     component_volumes(vertices6, indices, component, volume0, area);
 
+    const std::vector<float> original(vertices6.begin(), vertices6.end());
+    const std::vector<double> area0 = area;
     std::vector<float> scratch(vertices6.size());
     for (int it = 0; it < iterations; ++it) {
         laplacian_step(vertices6, scratch, 6, adj, kLambda, 0, n);
@@ -141,11 +143,25 @@ SmoothingReport smooth_mesh(std::span<float> vertices6, std::span<const std::uin
     }
     area_normals(vertices6, indices);
     // Move each component along its normals by the distance that gives back its volume: dV = A d.
+    // A component that smoothing collapsed (a droplet of a few triangles shrinks to a point, or turns
+    // inside out) has no normals to restore it along: it keeps its unsmoothed vertices. The others move
+    // at most a tenth of the square root of their area (a third of a sphere's radius); the real
+    // corrections are far smaller.
     component_volumes(vertices6, indices, component, volume1, area);
+    std::vector<std::uint8_t> collapsed(report.components, 0);
+    for (std::uint32_t c = 0; c < report.components; ++c) {
+        collapsed[c] = !(volume1[c] * volume0[c] > 0) || std::abs(volume1[c]) < 0.5 * std::abs(volume0[c]);
+        report.kept += collapsed[c];
+    }
     for (std::size_t v = 0; v < n; ++v) {
         const std::uint32_t c = component[v];
+        if (collapsed[c]) {
+            std::copy(&original[6 * v], &original[6 * v] + 3, &vertices6[6 * v]);
+            continue;
+        }
         if (!(area[c] > 0)) continue;
-        const float d = static_cast<float>((volume0[c] - volume1[c]) / area[c]);
+        const double limit = 0.1 * std::sqrt(area0[c]);
+        const float d = static_cast<float>(std::clamp((volume0[c] - volume1[c]) / area[c], -limit, limit));
         for (int a = 0; a < 3; ++a)
             vertices6[6 * v + std::size_t(a)] += d * vertices6[6 * v + 3 + std::size_t(a)];
     }

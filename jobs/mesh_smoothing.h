@@ -5,7 +5,9 @@
 // iterations is a shrinking Laplacian step (λ = 0.5) and an inflating one (μ = -0.53), which damps the
 // bumps and keeps the large shapes; then every component's vertices move along their normals by one
 // common distance that restores its enclosed volume (smoothing a droplet still rounds it, it does not
-// shrink it). Normals are recomputed, area-weighted. Topology never changes.
+// shrink it). A component the smoothing collapses (half its volume gone, or turned inside out: a droplet of
+// a few triangles) keeps its unsmoothed vertices. Normals are recomputed, area-weighted. Topology never
+// changes.
 //
 // Differs from Löschner et al. 2023 (splashsurf), which weight each vertex's step by how many particles
 // are near it: here every vertex takes the same step; their weighting is the next step (docs).
@@ -30,6 +32,7 @@ void laplacian_step(std::span<const float> in, std::span<float> out, std::size_t
 
 struct SmoothingReport {
     std::uint32_t components = 0;
+    std::uint32_t kept = 0;  // components smoothing collapsed or turned inside out, left unsmoothed
     double volume_before = 0, volume_after = 0;  // signed, summed over components
 };
 

@@ -115,3 +115,20 @@ TEST(MeshSmoothing, KeepsEachComponentsVolumeAndFlattensTheOrangePeel) {
     smooth_mesh(again.v6, again.idx, 10);
     EXPECT_EQ(again.v6, m.v6) << "the same bytes every run";
 }
+
+TEST(MeshSmoothing, AComponentItWouldCollapseKeepsItsVertices) {
+    // A tetrahedron (outward faces): every step pulls each vertex to the others' centroid, so Taubin
+    // shrinks it by about 5x in volume a pair; it is left as it was.
+    Mesh m;
+    const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (const auto& q : p) m.v6.insert(m.v6.end(), {q[0], q[1], q[2], 0, 0, 0});
+    m.idx = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    ASSERT_GT(volume(m), 0.0);
+    const std::vector<float> before = m.v6;
+    const SmoothingReport r = smooth_mesh(m.v6, m.idx, 3);
+    EXPECT_EQ(r.components, 1u);
+    EXPECT_EQ(r.kept, 1u);
+    for (std::size_t v = 0; v < 4; ++v)
+        for (int a = 0; a < 3; ++a) EXPECT_EQ(m.v6[6 * v + std::size_t(a)], before[6 * v + std::size_t(a)]);
+    EXPECT_NEAR(r.volume_after, r.volume_before, 1e-12);
+}

@@ -129,11 +129,9 @@ int run(const MeshOptions& o) {
             const double ms =
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
             r.hash = mesh_hash(r.mesh);
-            smoothing = {{"iterations", o.smooth},
-                         {"ms", ms},
-                         {"components", s.components},
-                         {"volume_before", s.volume_before},
-                         {"volume_after", s.volume_after}};
+            smoothing = {{"iterations", o.smooth},           {"ms", ms},
+                         {"components", s.components},       {"unsmoothed_components", s.kept},
+                         {"volume_before", s.volume_before}, {"volume_after", s.volume_after}};
         }
         if (!jobs[i].out.empty()) {
             if (req.mesh_volume)
