@@ -86,9 +86,12 @@ void SlicesExtractor::resolve_field(ConstPositions p, const float lo[3], const f
             throw std::length_error(
                 fmt::format("marching slices grid needs {} cubes along an axis (limit {}): raise --voxel",
                             (double(hi[a]) - double(lo[a])) / voxel_, settings_.max_grid_cubes));
-    std::vector<std::uint32_t> heads(spacing_table_size(p.size()) + 1), order(p.size());
-    std::vector<float> values(kSpacingSamples);
-    const float spacing = particle_spacing(p, lo, cell, kSpacingSamples, {heads, order, values});
+    // Kept between frames: a run whose frames stay under the sample measures every frame.
+    spacing_heads_.resize(std::max(spacing_heads_.size(), spacing_table_size(p.size()) + 1));
+    spacing_order_.resize(std::max(spacing_order_.size(), p.size()));
+    spacing_values_.resize(kSpacingSamples);
+    const float spacing =
+        particle_spacing(p, lo, cell, kSpacingSamples, {spacing_heads_, spacing_order_, spacing_values_});
     apply_field(settings_.field_values(spacing));
     // A frame with fewer particles than the sample (a fountain's first streams) is measured for itself
     // only: the spacing is fixed by the first frame that fills the sample.

@@ -128,6 +128,8 @@ class SlicesExtractor {
     std::size_t max_particles_;
     SliceFieldValues field_;
     bool field_resolved_ = false;
+    std::vector<std::uint32_t> spacing_heads_, spacing_order_;  // particle_spacing's workspace
+    std::vector<float> spacing_values_;
     float rc_ = 0, iso_ = 0, voxel_ = 0;
     SliceGrid grid_;
 
