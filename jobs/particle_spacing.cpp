@@ -38,9 +38,9 @@ CellHash build(ConstPositions p, const float origin[3], float cell, SpacingWorks
     return h;
 }
 
-// Calls visit(j, squared distance) for the particles in the 27 cells around particle i (i included, and
-// a particle twice where two cells share a bucket: callers take a minimum, or sum over distinct cells'
-// buckets only, see below), at most kMaxScan of them.
+// Calls visit(j, squared distance) for the particles in the buckets of the 27 cells around particle i (i
+// included), at most kMaxScan of them. A bucket two of the cells share is visited once: it holds every
+// particle of both, so a density sum counts nothing twice and misses nothing.
 template <class Visit>
 void for_each_near(ConstPositions p, const CellHash& h, const SpacingWorkspace& ws, std::size_t i,
                    Visit&& visit) {
@@ -95,8 +95,6 @@ float particle_spacing(ConstPositions p, const float origin[3], float cap, std::
     // eighth); stopping here also keeps the second pass's cells at least a quarter of the cap.
     if (!(d0 >= 0.1f * cap)) return d0;
 
-    // Bucket sums are only right when the 27 cells map to distinct buckets; a shared bucket is visited
-    // once, and holds every particle of both cells, so nothing is counted twice or missed.
     const float support = 3.0f * d0;
     const SphCubicKernel w(support);
     h = build(p, origin, support, ws);

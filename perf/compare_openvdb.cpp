@@ -24,6 +24,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "perf/support/bench_util.h"
 #include "runtime/lib/allocator_tuning.h"
 #include "runtime/lib/mesh_extraction.h"
 #include "runtime/lib/stage_summary.h"
@@ -148,15 +149,17 @@ int main(int argc, char** argv) {
     if (!splash.empty()) inputs.emplace_back("splash " + splash, read_particles(splash));
     for (const std::string& f : more_frames) inputs.emplace_back(f, read_particles(f));
     std::vector<rivulet::SliceField> field_list;
-    for (std::size_t at = 0; at <= fields.size();) {
-        const std::size_t end = std::min(fields.find(',', at), fields.size());
+    for (const std::string& name : rivulet::bench::split_list(fields)) {
         rivulet::SliceField f{};
-        if (!rivulet::parse_slice_field(fields.substr(at, end - at), f)) {
-            fmt::print(stderr, "--fields: '{}' is not spacing or classic\n", fields.substr(at, end - at));
+        if (!rivulet::parse_slice_field(name, f)) {
+            fmt::print(stderr, "--fields: '{}' is not spacing or classic\n", name);
             return 2;
         }
         field_list.push_back(f);
-        at = end + 1;
+    }
+    if (field_list.empty()) {
+        fmt::print(stderr, "--fields: name spacing, classic or both\n");
+        return 2;
     }
 
     nlohmann::json rows = nlohmann::json::array();

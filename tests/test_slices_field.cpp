@@ -89,7 +89,7 @@ TEST(SpacingField, BisectionBracketsItsRootAndRcGrowsWithSpacing) {
     double last_rc = 1.0;
     for (double d = kMinFieldSpacing; d <= kMaxFieldSpacing + 1e-9; d += 0.05) {
         EXPECT_LT(lattice_mean_field(1.0001, d), lone_particle_iso(1.0001)) << d;
-        const double hi = 1.5 + 0.5 * d;
+        const double hi = spacing_field_rc_bound(d);
         EXPECT_GT(lattice_mean_field(hi, d), lone_particle_iso(hi)) << d;
         const SpacingField f = spacing_field(d);
         EXPECT_GT(f.rc_factor, last_rc) << d;

@@ -137,8 +137,8 @@ void SlicesOptions::add_to(CLI::App& cmd) {
         ->capture_default_str()
         ->check(CLI::IsMember({"spacing", "classic"}));
     cmd.add_option("--spacing", spacing,
-                   "Marching slices, spacing field: the particles' spacing in world units (default: the "
-                   "median nearest-neighbour distance of the first frame)")
+                   "Marching slices, spacing field: the particles' spacing in world units (default: "
+                   "measured from their number density on the first frame of 1,024 particles or more)")
         ->check(positive_number());
     cmd.add_flag("--exhaustive-seeds", exhaustive,
                  "Marching slices: also seed from every grid column, so empty cavities (bubbles holding no "

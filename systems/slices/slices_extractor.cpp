@@ -81,11 +81,9 @@ void SlicesExtractor::apply_field(const SliceFieldValues& field) {
 
 void SlicesExtractor::resolve_field(ConstPositions p, const float lo[3], const float hi[3]) {
     const float cell = static_cast<float>(kMaxFieldSpacing) * settings_.radius;
-    for (int a = 0; a < 3; ++a)
-        if ((double(hi[a]) - double(lo[a])) / voxel_ > settings_.max_grid_cubes)
-            throw std::length_error(
-                fmt::format("marching slices grid needs {} cubes along an axis (limit {}): raise --voxel",
-                            (double(hi[a]) - double(lo[a])) / voxel_, settings_.max_grid_cubes));
+    // The spacing's hash cells are at least a quarter of `cell`, which is at least half a voxel: this
+    // bounds their indices as particle_spacing requires.
+    for (int a = 0; a < 3; ++a) check_grid_cubes((double(hi[a]) - double(lo[a])) / voxel_);
     // Kept between frames: a run whose frames stay under the sample measures every frame.
     spacing_heads_.resize(std::max(spacing_heads_.size(), spacing_table_size(p.size()) + 1));
     spacing_order_.resize(std::max(spacing_order_.size(), p.size()));
@@ -96,6 +94,13 @@ void SlicesExtractor::resolve_field(ConstPositions p, const float lo[3], const f
     // A frame with fewer particles than the sample (a fountain's first streams) is measured for itself
     // only: the spacing is fixed by the first frame that fills the sample.
     field_resolved_ = p.size() >= kSpacingSamples;
+}
+
+void SlicesExtractor::check_grid_cubes(double cells) const {
+    if (cells > settings_.max_grid_cubes)
+        throw std::length_error(
+            fmt::format("marching slices grid needs {} cubes along an axis (limit {}): raise --voxel", cells,
+                        settings_.max_grid_cubes));
 }
 
 SlicesExtractor::~SlicesExtractor() = default;
@@ -182,10 +187,7 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
     for (int a = 0; a < 3; ++a) {
         const double first = std::floor(double(lo[a]) / voxel_), last = std::floor(double(hi[a]) / voxel_);
         const double cells = last - first + 2.0 * grid_.reach + 6.0;
-        if (cells > settings_.max_grid_cubes)
-            throw std::length_error(
-                fmt::format("marching slices grid needs {} cubes along an axis (limit {}): raise --voxel",
-                            cells, settings_.max_grid_cubes));
+        check_grid_cubes(cells);
         origin[a] = static_cast<float>((first - grid_.reach - 2.0) * voxel_);
         nb[a] = static_cast<std::uint32_t>(std::ceil(cells / grid_.n));
     }

@@ -121,6 +121,8 @@ class SlicesExtractor {
     void grow_scratch(std::uint32_t particles, std::uint32_t cache_entries);
     std::uint32_t owner_of(std::uint64_t key) const;
     void apply_field(const SliceFieldValues& field);
+    // Throws std::length_error when an axis needs more than settings_.max_grid_cubes cubes.
+    void check_grid_cubes(double cells) const;
     // Measures the data's spacing (jobs/particle_spacing.h) and sets the spacing field from it (serial).
     void resolve_field(ConstPositions p, const float lo[3], const float hi[3]);
 

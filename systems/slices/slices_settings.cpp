@@ -54,9 +54,9 @@ SpacingField spacing_field(double spacing) {
         std::isnan(spacing) ? kMaxFieldSpacing : std::clamp(spacing, kMinFieldSpacing, kMaxFieldSpacing);
     // The mean lattice field one radius up minus the lone particle's iso rises with R_c: negative near
     // 1 (where hardly more than the particle below reaches), positive at 1.5 + d / 2 for every spacing
-    // in range (test SpacingFieldBracketsItsRoot; the root runs from 1.03 at d = 1/4 to 2.20 at d =
-    // 2). Bisection in double: the same answer on every machine.
-    double lo = 1.0, hi = 1.5 + 0.5 * d;
+    // in range (test SpacingField.BisectionBracketsItsRootAndRcGrowsWithSpacing; the root runs from 1.03 at d
+    // = 1/4 to 2.20 at d = 2). Bisection in double: the same answer on every machine.
+    double lo = 1.0, hi = spacing_field_rc_bound(d);
     for (int i = 0; i < 40; ++i) {
         const double mid = 0.5 * (lo + hi);
         (lattice_mean_field(mid, d) > lone_particle_iso(mid) ? hi : lo) = mid;
@@ -76,7 +76,7 @@ SliceFieldValues SlicesSettings::field_values(float data_spacing) const {
 
 float SlicesSettings::max_rc() const {
     if (field == SliceField::kClassic) return rc_factor * radius;
-    return static_cast<float>(1.5 + 0.5 * kMaxFieldSpacing) * radius;
+    return static_cast<float>(spacing_field_rc_bound(kMaxFieldSpacing)) * radius;
 }
 
 std::string SlicesSettings::validate() const {

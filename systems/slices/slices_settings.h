@@ -2,8 +2,9 @@
 // Parameters of marching slices (seed 004 §3.2) and how the particle radius maps onto the field
 // F = sum of f(|s - p|) over particles within R_c, fluid where F >= iso (jobs/slice_field.h).
 //
-// The spacing field (default): R_c and iso follow the data's particle spacing d (`spacing`, or the
-//   median nearest-neighbour distance of the first non-empty frame): spacing_field(d / radius) is the
+// The spacing field (default): R_c and iso follow the data's particle spacing d (`spacing`, or measured
+//   by number density, jobs/particle_spacing.h, on the first frame of 1,024 particles or more, see
+//   SlicesExtractor::field): spacing_field(d / radius) is the
 //   one pair for which a lone particle is a sphere of `radius` and a flat layer of particles d apart
 //   has its surface one radius outside its outer centres, so the surface sits where the particles'
 //   spheres are, however densely they sample the fluid. R_c runs from 1.03 radii (d = r / 4) to 2.20
@@ -74,5 +75,10 @@ struct SpacingField {
     double iso = 0.157;
 };
 SpacingField spacing_field(double spacing);
+// An R_c factor above the spacing field's root for every spacing up to `spacing` (its bisection's upper
+// end, and the widest reach the field can need).
+inline double spacing_field_rc_bound(double spacing) {
+    return 1.5 + 0.5 * spacing;
+}
 
 }  // namespace rivulet
