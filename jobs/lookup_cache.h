@@ -18,7 +18,9 @@
 #include <cstdint>
 #include <cstring>
 #include <span>
+#include <type_traits>
 
+#include "jobs/anisotropic_kernels.h"
 #include "jobs/particle_spans.h"
 #include "jobs/slice_field.h"
 #include "jobs/vector_lanes.h"
@@ -42,24 +44,36 @@ inline std::uint32_t lookup_group(std::int32_t mid_z, std::int32_t reach) {
     return static_cast<std::uint32_t>(mid_z + reach + 2) >> kLookupGroupShift;
 }
 
-struct LookupCacheView {
+// An anisotropic particle's entry (jobs/anisotropic_kernels.h): at corner height pz its squared
+// distance in the kernel's metric is a + c (z - pz)^2, its term amp * f of that.
+struct AnisoEntry {
+    float a;  // the metric's distance to the column (its minimum over z)
+    float z;  // the height where the column passes closest to the centre, in the metric
+    float c;  // the metric's zz entry
+    float amp;
+};
+
+template <class Entry>
+struct BasicLookupCacheView {
     // Group g of column c starts at entry offsets[g * columns + c]; row `groups` holds the column ends.
     std::span<const std::uint32_t> offsets;
-    std::span<const ColumnEntry> entries;
+    std::span<const Entry> entries;
     std::int32_t reach = 1;  // an entry reaches slices [mid_z - reach, mid_z + reach + 1]
     std::uint32_t groups = 1, columns = 1;
 
     // From the start of the group holding the lowest mid_z that reaches slice k_lo >= 0 to the end of
     // the group holding the highest that reaches k_hi: every entry reaching a slice of [k_lo, k_hi].
-    const ColumnEntry* group_start(std::uint32_t col, std::int32_t k_lo) const {
+    const Entry* group_start(std::uint32_t col, std::int32_t k_lo) const {
         const std::uint32_t g = std::min(lookup_group(k_lo - reach - 1, reach), groups);
         return entries.data() + offsets[g * columns + col];
     }
-    const ColumnEntry* group_end(std::uint32_t col, std::int32_t k_hi) const {
+    const Entry* group_end(std::uint32_t col, std::int32_t k_hi) const {
         const std::uint32_t g = std::min(lookup_group(k_hi + reach, reach) + 1, groups);
         return entries.data() + offsets[g * columns + col];
     }
 };
+using LookupCacheView = BasicLookupCacheView<ColumnEntry>;
+using AnisoLookupCacheView = BasicLookupCacheView<AnisoEntry>;
 
 struct LookupScratch {
     std::span<std::uint32_t> order;   // one per block particle
@@ -74,6 +88,14 @@ struct LookupScratch {
 std::uint32_t build_lookup_cache(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                                  ConstPositions particles, const LookupScratch& scratch,
                                  std::span<std::uint32_t> offsets, std::span<ColumnEntry> entries);
+// The same for anisotropic kernels: `particles` are the block's smoothed centres, ids[q] is where
+// particle q's shape sits in `shapes`. A particle's columns are those its ellipsoid meets, its reach in
+// z the grid's (which must cover the longest axis).
+std::uint32_t build_aniso_lookup_cache(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj,
+                                       std::uint32_t bk, ConstPositions particles,
+                                       std::span<const std::uint32_t> ids, ConstKernelShapes shapes,
+                                       const LookupScratch& scratch, std::span<std::uint32_t> offsets,
+                                       std::span<AnisoEntry> entries);
 
 // Scratch sizes for build_lookup_cache.
 inline std::size_t lookup_sort_slots(const SliceGrid& g) {
@@ -93,13 +115,17 @@ inline std::size_t lookup_row_slots(const SliceGrid& g) {
 }
 
 // F at local corner (i, j, k) whose world z is pz.
-inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
-                         std::int32_t k, float pz, SliceKernel f) {
+template <class Entry>
+float cache_field(const BasicLookupCacheView<Entry>& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
+                  std::int32_t k, float pz, SliceKernel f) {
     const std::uint32_t col = j * (n + 1) + i;
     float sum = 0.0f;
-    for (const ColumnEntry *e = c.group_start(col, k), *end = c.group_end(col, k); e != end; ++e) {
+    for (const Entry *e = c.group_start(col, k), *end = c.group_end(col, k); e != end; ++e) {
         const float dz = e->z - pz;
-        sum += f(e->dxy + dz * dz);
+        if constexpr (std::is_same_v<Entry, AnisoEntry>)
+            sum += e->amp * f(e->a + e->c * (dz * dz));
+        else
+            sum += f(e->dxy + dz * dz);
     }
     return sum;
 }
@@ -116,9 +142,10 @@ inline float cache_field(const LookupCacheView& c, std::uint32_t n, std::uint32_
 // -ffp-contract=off). The seed walks, the face scans, the exhaustive seeds and the sweep all evaluate
 // corners through this (a lone corner is a run of one); cache_field is the tests' scalar reference. Eight
 // lanes only pay in a function built for AVX2 (march_block's).
-template <int Lanes = 4>
-inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_t i, std::uint32_t j,
-                         std::int32_t k_lo, std::int32_t k_hi, const float* pz, SliceKernel f, float* out) {
+template <int Lanes = 4, class Entry>
+inline void cache_column(const BasicLookupCacheView<Entry>& c, std::uint32_t n, std::uint32_t i,
+                         std::uint32_t j, std::int32_t k_lo, std::int32_t k_hi, const float* pz,
+                         SliceKernel f, float* out) {
     using fv = typename VectorLanes<Lanes>::f;  // Lanes slices to a vector
     using iv = typename VectorLanes<Lanes>::i;
     const std::uint32_t col = j * (n + 1) + i;
@@ -128,12 +155,19 @@ inline void cache_column(const LookupCacheView& c, std::uint32_t n, std::uint32_
         fv z;
         std::memcpy(&z, pz + (a - k_lo), sizeof z);  // lanes past k_hi: padding, never stored
         fv sum = fv{};
-        for (const ColumnEntry *e = c.group_start(col, a), *end = c.group_end(col, b); e != end; ++e) {
+        for (const Entry *e = c.group_start(col, a), *end = c.group_end(col, b); e != end; ++e) {
             const fv dz = e->z - z;
-            const fv r2 = e->dxy + dz * dz;
-            const fv q = r2 * inv - half;
-            const fv term = q * q;
-            sum += reinterpret_cast<fv>(reinterpret_cast<iv>(term) & (r2 < rc2));  // +0 beyond R_c
+            if constexpr (std::is_same_v<Entry, AnisoEntry>) {
+                const fv r2 = e->a + e->c * (dz * dz);
+                const fv q = r2 * inv - half;
+                const fv term = e->amp * (q * q);
+                sum += reinterpret_cast<fv>(reinterpret_cast<iv>(term) & (r2 < rc2));
+            } else {
+                const fv r2 = e->dxy + dz * dz;
+                const fv q = r2 * inv - half;
+                const fv term = q * q;
+                sum += reinterpret_cast<fv>(reinterpret_cast<iv>(term) & (r2 < rc2));  // +0 beyond R_c
+            }
         }
         std::memcpy(out + (a - k_lo), &sum, sizeof sum);
     }

@@ -15,9 +15,9 @@ namespace {
 // The sweep of one block, built twice (march_block): `RunLanes` slices per column-kernel pass in the
 // seed walks, the x/y face scans and the sweep's corner runs (8 in the AVX2 build, 4 in the baseline).
 // Either build gives the same bits (cache_column).
-template <int W, int RunLanes>
+template <int W, int RunLanes, class Cache>
 RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj,
-                                                std::uint32_t bk, float iso, const LookupCacheView& cache,
+                                                std::uint32_t bk, float iso, const Cache& cache,
                                                 ConstPositions particles, const SliceScratch& s,
                                                 const BlockMeshOut& out, bool exhaustive,
                                                 unsigned empty_neighbours, const SharedFaces& shared) {
@@ -397,23 +397,54 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
 }
 
 // The body for the row width the block edge needs (one word a row up to 63 cubes).
-template <int RunLanes>
+template <int RunLanes, class Cache>
 RIVULET_INLINE BlockSweepStats march_block_rows(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj,
-                                                std::uint32_t bk, float iso, const LookupCacheView& cache,
+                                                std::uint32_t bk, float iso, const Cache& cache,
                                                 ConstPositions particles, const SliceScratch& s,
                                                 const BlockMeshOut& out, bool exhaustive,
                                                 unsigned empty_neighbours, const SharedFaces& shared) {
     switch (row_words(g.n)) {
         case 1:
-            return march_block_body<1, RunLanes>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive,
-                                                 empty_neighbours, shared);
+            return march_block_body<1, RunLanes, Cache>(g, bi, bj, bk, iso, cache, particles, s, out,
+                                                        exhaustive, empty_neighbours, shared);
         case 2:
-            return march_block_body<2, RunLanes>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive,
-                                                 empty_neighbours, shared);
+            return march_block_body<2, RunLanes, Cache>(g, bi, bj, bk, iso, cache, particles, s, out,
+                                                        exhaustive, empty_neighbours, shared);
         default:
-            return march_block_body<3, RunLanes>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive,
-                                                 empty_neighbours, shared);
+            return march_block_body<3, RunLanes, Cache>(g, bi, bj, bk, iso, cache, particles, s, out,
+                                                        exhaustive, empty_neighbours, shared);
     }
+}
+
+template <class Cache>
+BlockSweepStats baseline_build(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
+                               float iso, const Cache& cache, ConstPositions particles, const SliceScratch& s,
+                               const BlockMeshOut& out, bool exhaustive, unsigned empty_neighbours,
+                               const SharedFaces& shared) {
+    return march_block_rows<4>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
+                               shared);
+}
+
+// flatten: the body's lambdas and the column kernel are inlined here, so they are built for AVX2 too.
+template <class Cache>
+[[gnu::flatten]] RIVULET_AVX2 BlockSweepStats avx2_build(const SliceGrid& g, std::uint32_t bi,
+                                                         std::uint32_t bj, std::uint32_t bk, float iso,
+                                                         const Cache& cache, ConstPositions particles,
+                                                         const SliceScratch& s, const BlockMeshOut& out,
+                                                         bool exhaustive, unsigned empty_neighbours,
+                                                         const SharedFaces& shared) {
+    return march_block_rows<8>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
+                               shared);
+}
+
+template <class Cache>
+BlockSweepStats dispatch(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk, float iso,
+                         const Cache& cache, ConstPositions particles, const SliceScratch& s,
+                         const BlockMeshOut& out, bool exhaustive, unsigned empty_neighbours,
+                         const SharedFaces& shared) {
+    if (cpu_has_avx2())
+        return avx2_build(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
+    return baseline_build(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
 }
 
 }  // namespace
@@ -422,28 +453,28 @@ BlockSweepStats march_block_baseline(const SliceGrid& g, std::uint32_t bi, std::
                                      float iso, const LookupCacheView& cache, ConstPositions particles,
                                      const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
                                      unsigned empty_neighbours, const SharedFaces& shared) {
-    return march_block_rows<4>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
-                               shared);
+    return baseline_build(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
 }
 
-// flatten: the body's lambdas and the column kernel are inlined here, so they are built for AVX2 too.
-[[gnu::flatten]] RIVULET_AVX2 static BlockSweepStats march_block_avx2(
-    const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk, float iso,
-    const LookupCacheView& cache, ConstPositions particles, const SliceScratch& s, const BlockMeshOut& out,
-    bool exhaustive, unsigned empty_neighbours, const SharedFaces& shared) {
-    return march_block_rows<8>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
-                               shared);
+BlockSweepStats march_block_baseline(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
+                                     float iso, const AnisoLookupCacheView& cache, ConstPositions particles,
+                                     const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
+                                     unsigned empty_neighbours, const SharedFaces& shared) {
+    return baseline_build(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
 }
 
 BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
                             float iso, const LookupCacheView& cache, ConstPositions particles,
                             const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
                             unsigned empty_neighbours, const SharedFaces& shared) {
-    if (cpu_has_avx2())
-        return march_block_avx2(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
-                                shared);
-    return march_block_baseline(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
-                                shared);
+    return dispatch(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
+}
+
+BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
+                            float iso, const AnisoLookupCacheView& cache, ConstPositions particles,
+                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
+                            unsigned empty_neighbours, const SharedFaces& shared) {
+    return dispatch(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
 }
 
 }  // namespace rivulet

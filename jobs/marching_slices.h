@@ -122,10 +122,20 @@ BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32
                             float iso, const LookupCacheView& cache, ConstPositions particles,
                             const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false,
                             unsigned empty_neighbours = 0, const SharedFaces& shared = {});
+// The same over an anisotropic cache (jobs/anisotropic_kernels.h); `particles` are the smoothed centres.
+BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
+                            float iso, const AnisoLookupCacheView& cache, ConstPositions particles,
+                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false,
+                            unsigned empty_neighbours = 0, const SharedFaces& shared = {});
 // The x86-64 baseline build of march_block, which it runs where the CPU lacks AVX2 (or RIVULET_NO_AVX2
 // is set); tests compare the two builds byte for byte.
 BlockSweepStats march_block_baseline(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj,
                                      std::uint32_t bk, float iso, const LookupCacheView& cache,
+                                     ConstPositions particles, const SliceScratch& scratch,
+                                     const BlockMeshOut& out, bool exhaustive, unsigned empty_neighbours,
+                                     const SharedFaces& shared);
+BlockSweepStats march_block_baseline(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj,
+                                     std::uint32_t bk, float iso, const AnisoLookupCacheView& cache,
                                      ConstPositions particles, const SliceScratch& scratch,
                                      const BlockMeshOut& out, bool exhaustive, unsigned empty_neighbours,
                                      const SharedFaces& shared);

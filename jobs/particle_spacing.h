@@ -11,25 +11,23 @@
 //   3. d = n^(-1/3) at the 80th percentile of n: interior particles, whose kernels are full (a surface
 //      particle's is about half empty), as long as a fifth of the sample is interior.
 //
-// Particles are hashed into cells (counting sort over a power-of-two table), a sample searched in its 27
-// cells with at most 4096 entries (more means a pile far denser than any cell, e.g. coincident
+// Particles are hashed into cells (jobs/cell_hash.h), a sample searched in its 27 cells with at most 4096
+// entries (more means a pile far denser than any cell, e.g. coincident
 // particles, whose spacing reads as about 0). Serial; the slices extractor runs it once.
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
+#include "jobs/cell_hash.h"
 #include "jobs/particle_spans.h"
 
 namespace rivulet {
 
 struct SpacingWorkspace {
-    std::span<std::uint32_t> heads;  // spacing_table_size(n) + 1
+    std::span<std::uint32_t> heads;  // cell_hash_table_size(n) + 1 (jobs/cell_hash.h)
     std::span<std::uint32_t> order;  // n
     std::span<float> values;         // samples
 };
-
-// Power-of-two hash table size for n particles (at least 2 n).
-std::size_t spacing_table_size(std::size_t particles);
 
 // The spacing above, at most `cap`, over min(samples, n) particles spread evenly through the index range.
 // Requires n >= 1, cap > 0, samples >= 1, and every |coordinate - origin| / (cap / 4) below 2^30 (the

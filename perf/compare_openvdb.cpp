@@ -134,7 +134,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--splash", splash, "A splashing frame (PLY) to compare as well");
     app.add_option("--frames", more_frames, "More particle files to compare (any format `mesh` reads)");
-    app.add_option("--fields", fields, "Marching slices fields: spacing, classic or both")
+    app.add_option(
+           "--fields", fields,
+           "Marching slices fields: spacing, classic, anisotropic (the spacing field with --anisotropic), "
+           "comma-separated")
         ->capture_default_str();
     app.add_option("--block", block, "Marching slices: cubes per block edge")->capture_default_str();
     app.add_option("--json", json_out, "Write the table as JSON");
@@ -148,17 +151,24 @@ int main(int argc, char** argv) {
         inputs.emplace_back(fmt::format("dam block {}", n), dam_block(std::size_t(n), radius));
     if (!splash.empty()) inputs.emplace_back("splash " + splash, read_particles(splash));
     for (const std::string& f : more_frames) inputs.emplace_back(f, read_particles(f));
-    std::vector<rivulet::SliceField> field_list;
+    struct FieldChoice {
+        std::string name;
+        rivulet::SliceField field{};
+        float anisotropy = 0;
+    };
+    std::vector<FieldChoice> field_list;
     for (const std::string& name : rivulet::bench::split_list(fields)) {
-        rivulet::SliceField f{};
-        if (!rivulet::parse_slice_field(name, f)) {
-            fmt::print(stderr, "--fields: '{}' is not spacing or classic\n", name);
+        FieldChoice f{name};
+        if (name == "anisotropic")
+            f.anisotropy = rivulet::kDefaultAnisotropy;
+        else if (!rivulet::parse_slice_field(name, f.field)) {
+            fmt::print(stderr, "--fields: '{}' is not spacing, classic or anisotropic\n", name);
             return 2;
         }
         field_list.push_back(f);
     }
     if (field_list.empty()) {
-        fmt::print(stderr, "--fields: name spacing, classic or both\n");
+        fmt::print(stderr, "--fields: name spacing, classic or anisotropic\n");
         return 2;
     }
 
@@ -168,7 +178,7 @@ int main(int argc, char** argv) {
         "mean dist ours->vdb | mean dist vdb->ours | p95 ours->vdb |\n");
     fmt::print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const auto& [name, cloud] : inputs)
-        for (const rivulet::SliceField field : field_list) {
+        for (const FieldChoice& field : field_list) {
             for (int t : parse_ints(threads)) {
                 ThreadControl control(t);
                 MeshRequest req;
@@ -176,7 +186,8 @@ int main(int argc, char** argv) {
                 req.radius = radius;
                 req.repeat = kOurRuns;
                 req.slices.block_cubes = block;
-                req.slices.field = field;
+                req.slices.field = field.field;
+                req.slices.anisotropy = field.anisotropy;
                 MeshResult ours;
                 std::vector<double> our_ms, vdb_ms;
                 VdbResult vdb;
@@ -206,13 +217,13 @@ int main(int argc, char** argv) {
                 fmt::print(
                     "| {} | {} | {} | {} | {:.2f} | {} | {:.1f} | {} | {:.1f}x | {:.4f} r | {:.4f} r | "
                     "{:.4f} r |\n",
-                    name, cloud.size(), rivulet::slice_field_name(field), t, ours.total_ms,
-                    ours.mesh.triangle_count(), vdb_median, vdb.triangle_count(), speedup,
-                    to_vdb.mean / radius, to_ours.mean / radius, to_vdb.p95 / radius);
+                    name, cloud.size(), field.name, t, ours.total_ms, ours.mesh.triangle_count(), vdb_median,
+                    vdb.triangle_count(), speedup, to_vdb.mean / radius, to_ours.mean / radius,
+                    to_vdb.p95 / radius);
                 std::fflush(stdout);
                 rows.push_back({{"input", name},
                                 {"particles", cloud.size()},
-                                {"field", rivulet::slice_field_name(field)},
+                                {"field", field.name},
                                 {"spacing_radii", ours.spacing / radius},
                                 {"threads", t},
                                 {"slices_ms", ours.total_ms},

@@ -13,7 +13,9 @@
 
 using namespace rivulet;
 
-TEST(SlicesSteadyState, FramesAllocateNothing) {
+class SlicesSteadyState : public ::testing::TestWithParam<float> {};
+
+TEST_P(SlicesSteadyState, FramesAllocateNothing) {
     ThreadControl control(2);
     const std::size_t n = 3000;
     ParticleSet a(n), b(n);
@@ -25,6 +27,7 @@ TEST(SlicesSteadyState, FramesAllocateNothing) {
     SlicesSettings s;
     s.radius = 0.03f;
     s.block_cubes = 8;
+    s.anisotropy = GetParam();
     SlicesExtractor slices(s, n);
     slices.reserve_scratch(2);
     SurfaceMesh mesh;
@@ -40,3 +43,6 @@ TEST(SlicesSteadyState, FramesAllocateNothing) {
     EXPECT_EQ(during, 0) << "operator new called " << during << " times in 20 steady-state frames";
     EXPECT_GT(mesh.triangle_count(), 1000u);
 }
+
+INSTANTIATE_TEST_SUITE_P(Kernels, SlicesSteadyState, ::testing::Values(0.0f, kDefaultAnisotropy),
+                         [](const auto& p) { return p.param > 0 ? "Anisotropic" : "Spheres"; });

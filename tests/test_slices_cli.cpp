@@ -135,6 +135,33 @@ TEST(SlicesCli, BadInputsFailWithAClearMessage) {
     }
 }
 
+TEST(SlicesCli, AnisotropicKernelsAreAnOptionWithItsRangeChecked) {
+    const std::string in = rivulet::test::temp_path("aniso.xyz"),
+                      json = rivulet::test::temp_path("aniso.json"),
+                      round = rivulet::test::temp_path("round.json");
+    write_text(in, blob_xyz(400, 0, 4));
+    ASSERT_EQ(run_cli("mesh " + in + " --method slices --radius 0.03 --json " + round).status, 0);
+    const Result r = run_cli("mesh " + in + " --method slices --radius 0.03 --anisotropic --json " + json);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto j = read_json(json), spheres = read_json(round);
+    EXPECT_EQ(j["anisotropy"], rivulet::kDefaultAnisotropy);
+    EXPECT_EQ(spheres["anisotropy"], 0);
+    EXPECT_NE(j["mesh_hash"], spheres["mesh_hash"]);
+    ASSERT_EQ(run_cli("mesh " + in +
+                      " --method slices --radius 0.03 --anisotropic=2 --anisotropic-smoothing 0.5 "
+                      "--json " +
+                      json)
+                  .status,
+              0);
+    EXPECT_EQ(read_json(json)["anisotropy"], 2);
+    EXPECT_EQ(read_json(json)["anisotropy_smoothing"], 0.5);
+    for (const std::string bad : {"--anisotropic=5", "--anisotropic=0.5", "--anisotropic-smoothing 2"}) {
+        const Result e = run_cli("mesh " + in + " --method slices --radius 0.03 " + bad);
+        EXPECT_NE(e.status, 0) << bad;
+        EXPECT_NE(e.output.find("rivulet: error:"), std::string::npos) << bad << ": " << e.output;
+    }
+}
+
 TEST(SlicesCli, MeshSmoothsKeepingTheVolumeAndReportsTriangleQuality) {
     const std::string in = rivulet::test::temp_path("smooth.xyz"),
                       json = rivulet::test::temp_path("smooth.json"),

@@ -35,7 +35,7 @@ SlicesSettings spacing_settings(float radius) {
 }
 
 float measured_spacing(const Cloud& c, float cell) {
-    std::vector<std::uint32_t> heads(spacing_table_size(c.size()) + 1), order(c.size());
+    std::vector<std::uint32_t> heads(cell_hash_table_size(c.size()) + 1), order(c.size());
     std::vector<float> values(1024);
     const float origin[3] = {-100, -100, -100};
     return particle_spacing(c.pos(), origin, cell, 1024, {heads, order, values});

@@ -56,6 +56,7 @@ nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
     if (method == "slices") {
         j["voxel"] = r.voxel, j["rc"] = r.rc, j["iso"] = r.iso, j["blocks"] = r.blocks;
         j["field"] = r.slices_field, j["spacing"] = r.spacing;
+        j["anisotropy"] = r.anisotropy, j["anisotropy_smoothing"] = r.anisotropy_smoothing;
         j["seeds"] = r.seeds, j["cubes"] = r.cubes;
     } else if (method == "volume") {
         const DensityGrid& g = r.volume->grid;

@@ -54,6 +54,8 @@ struct SlicesOptions {
     float spacing = 0;
     std::uint32_t block = SlicesSettings{}.block_cubes;
     bool exhaustive = false;
+    float anisotropy = 0;  // --anisotropic: the longest kernel axis over the shortest; 0: spheres
+    float anisotropy_smoothing = SlicesSettings{}.anisotropy_smoothing;
     void add_to(CLI::App& cmd);
     // Copies the options into `s` (radius and limits untouched).
     void apply(SlicesSettings& s) const;

@@ -140,6 +140,17 @@ void SlicesOptions::add_to(CLI::App& cmd) {
                    "Marching slices, spacing field: the particles' spacing in world units (default: "
                    "measured from their number density on the first frame of 1,024 particles or more)")
         ->check(positive_number());
+    cmd.add_flag(
+           "--anisotropic{3}", anisotropy,
+           "Marching slices: anisotropic kernels (Yu & Turk 2013), stretched along the surface by up to "
+           "the given ratio of longest to shortest axis (default 3, at most 4): "
+           "flat water flat, thin sheets one sheet")
+        ->check(CLI::Range(1.0, double(kMaxAnisotropy)));
+    cmd.add_option("--anisotropic-smoothing", anisotropy_smoothing,
+                   "Marching slices, anisotropic kernels: how far each centre moves to its neighbours' "
+                   "weighted mean (0: not at all, 1: all the way)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
     cmd.add_flag("--exhaustive-seeds", exhaustive,
                  "Marching slices: also seed from every grid column, so empty cavities (bubbles holding no "
                  "particle) are found too; slower");
@@ -150,6 +161,8 @@ void SlicesOptions::apply(SlicesSettings& s) const {
     s.block_cubes = block;
     s.exhaustive_seeds = exhaustive;
     s.spacing = spacing;
+    s.anisotropy = anisotropy;
+    s.anisotropy_smoothing = anisotropy_smoothing;
     parse_slice_field(field, s.field);
 }
 

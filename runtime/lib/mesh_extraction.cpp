@@ -48,6 +48,7 @@ void extract_slices(const ParticleSet& particles, const MeshRequest& req, MeshRe
     result.rc = slices.rc();
     result.iso = slices.iso();
     result.slices_field = slice_field_name(s.field), result.spacing = slices.field().spacing;
+    result.anisotropy = s.anisotropy, result.anisotropy_smoothing = s.anisotropy_smoothing;
     result.blocks = slices.stats().active_blocks;
     result.seeds = slices.stats().seeds, result.cubes = slices.stats().cubes;
     const TriangleMeshView view = out.view();

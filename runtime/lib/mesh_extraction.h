@@ -32,6 +32,7 @@ struct MeshResult {
     float voxel = 0, rc = 0, iso = 0;                      // slices; volume (rc: the kernel radius h)
     std::string slices_field;                              // slices: "spacing" or "classic"
     float spacing = 0;                                     // slices, spacing field: the spacing it used
+    float anisotropy = 0, anisotropy_smoothing = 0;        // slices: the kernels' stretch (0: spheres)
     std::uint32_t blocks = 0;                              // slices: non-empty blocks
     std::uint64_t seeds = 0, cubes = 0;                    // slices: seed cubes, cubes swept
     double total_ms = 0;                                   // median graph wall time

@@ -12,9 +12,12 @@ SlicesJobIds add_slices_jobs(FrameGraph& g, SlicesExtractor& slices,
     auto item = [](std::size_t i) { return static_cast<std::uint32_t>(i); };
     id.begin = g.serial(
         "slices.begin", [&s, pos] { s.begin_frame(pos()); }, after);
+    id.shape = g.parallel(
+        "slices.shape", [&s] { return std::size_t(s.shape_chunks()); },
+        [&s, pos, item](std::size_t c) { s.shape(pos(), item(c)); }, {id.begin});
     id.count = g.parallel(
         "slices.count", [&s] { return std::size_t(s.chunks()); },
-        [&s, pos, item](std::size_t c) { s.block_count(pos(), item(c)); }, {id.begin});
+        [&s, pos, item](std::size_t c) { s.block_count(pos(), item(c)); }, {id.shape});
     id.prefix = g.serial("slices.prefix", [&s] { s.block_prefix(); }, {id.count});
     id.scatter = g.parallel(
         "slices.scatter", [&s] { return std::size_t(s.chunks()); },

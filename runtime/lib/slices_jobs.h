@@ -1,9 +1,9 @@
 #pragma once
 // The marching-slices jobs of a frame graph (seed 004 §3.2), shared by `mesh` (alone) and, later, `run`.
 // See SlicesExtractor for what each job does. Job names carry the `slices.` prefix:
-//   slices.begin -> slices.count* -> slices.prefix -> slices.scatter* -> slices.blocks*, then both
-//   slices.offsets -> slices.weld* and slices.normals* (a block's own sums need no offsets), then
-//   slices.borders -> slices.stage*                                                (* = parallel items)
+//   slices.begin -> slices.shape* (anisotropic kernels only) -> slices.count* -> slices.prefix ->
+//   slices.scatter* -> slices.blocks*, then both slices.offsets -> slices.weld* and slices.normals* (a
+//   block's own sums need no offsets), then slices.borders -> slices.stage* (* = parallel items)
 #include <functional>
 #include <initializer_list>
 
@@ -13,7 +13,7 @@
 namespace rivulet {
 
 struct SlicesJobIds {
-    FrameGraph::JobId begin, count, prefix, scatter, blocks, offsets, weld, normals, borders, stage;
+    FrameGraph::JobId begin, shape, count, prefix, scatter, blocks, offsets, weld, normals, borders, stage;
 };
 
 // `positions` and `output` are asked when each job runs, so they may change between frames (slots).

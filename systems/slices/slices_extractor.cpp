@@ -27,6 +27,7 @@ struct SlicesExtractor::Scratch {
     AlignedArray<std::uint32_t> order, sort_counts, column_offsets;
     AlignedArray<std::int32_t> mids;
     AlignedArray<ColumnEntry> entries;
+    AlignedArray<AnisoEntry> aniso_entries;
     AlignedArray<std::uint16_t> rows;
     AlignedArray<float> slices;
     AlignedArray<std::uint64_t> face_bits, slice_rows, slab_rows, edge_rows, work_rows;
@@ -63,6 +64,13 @@ SlicesExtractor::SlicesExtractor(const SlicesSettings& settings, std::size_t max
     grid_.set_block_cubes(settings.block_cubes);
     // Until the spacing field is measured (first non-empty frame), the grid claims the widest reach any
     // spacing can give, so sweep scratch reserved before then is large enough.
+    if (settings.anisotropy > 0) {
+        hash_heads_.resize(cell_hash_table_size(max_particles) + 1), hash_order_.resize(max_particles);
+        hash_x_.resize(max_particles), hash_y_.resize(max_particles), hash_z_.resize(max_particles);
+        for (auto* a : {&centre_x_, &centre_y_, &centre_z_, &shape_sxx_, &shape_sxy_, &shape_syy_, &shape_gx_,
+                        &shape_gy_, &shape_c_, &shape_amp_})
+            a->reserve(max_particles);
+    }
     field_resolved_ = settings.field == SliceField::kClassic || settings.spacing > 0;
     apply_field(field_resolved_ ? settings.field_values(0) : SliceFieldValues{settings.max_rc(), 0, 0});
 }
@@ -71,12 +79,33 @@ void SlicesExtractor::apply_field(const SliceFieldValues& field) {
     field_ = field;
     rc_ = field.rc, iso_ = field.iso;
     grid_.rc = rc_;
-    // A particle in cell c reaches the corners within R_c, in exact arithmetic [c - ceil(R) + 1, c +
-    // ceil(R)] for R = R_c / voxel; the grid claims [c - reach, c + reach + 1] with reach = ceil(R), one
-    // corner more on each side, a whole voxel of margin against rounding of cells and distances (was
-    // ceil(R) + 1: every column lookup then scanned a fifth more entries, and blocks listed more
-    // particles).
-    grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ / voxel_));
+    // A particle in cell c reaches the corners within R, in exact arithmetic [c - ceil(R) + 1, c +
+    // ceil(R)] for R = R_c / voxel (times the longest axis of an anisotropic kernel); the grid claims
+    // [c - reach, c + reach + 1] with reach = ceil(R), one corner more on each side, a whole voxel of
+    // margin against rounding of cells and distances (a wider margin makes every column lookup scan more
+    // entries, and blocks list more particles).
+    grid_.reach = static_cast<std::int32_t>(std::ceil(rc_ * settings_.reach_factor() / voxel_));
+}
+
+AnisotropyParams SlicesExtractor::anisotropy_params() const {
+    // The classic field is calibrated for data two radii apart.
+    const float spacing = field_.spacing > 0 ? field_.spacing : 2.0f * settings_.radius;
+    return {kAnisotropyNeighbourhood * spacing, settings_.anisotropy, settings_.anisotropy_smoothing,
+            kAnisotropyMinNeighbours};
+}
+
+ConstPositions SlicesExtractor::centres(ConstPositions p) const {
+    return settings_.anisotropy > 0 ? kernel_centres() : p;
+}
+
+void SlicesExtractor::shape(ConstPositions p, std::uint32_t chunk) {
+    const std::size_t begin = std::size_t(chunk) * kShapeChunk,
+                      end = std::min(particles_, begin + kShapeChunk);
+    anisotropic_kernels(p, hash_, begin, end, anisotropy_params(),
+                        {centre_x_.span(particles_), centre_y_.span(particles_), centre_z_.span(particles_),
+                         shape_sxx_.span(particles_), shape_sxy_.span(particles_),
+                         shape_syy_.span(particles_), shape_gx_.span(particles_), shape_gy_.span(particles_),
+                         shape_c_.span(particles_), shape_amp_.span(particles_)});
 }
 
 void SlicesExtractor::resolve_field(ConstPositions p, const float lo[3], const float hi[3]) {
@@ -85,7 +114,7 @@ void SlicesExtractor::resolve_field(ConstPositions p, const float lo[3], const f
     // bounds their indices as particle_spacing requires.
     for (int a = 0; a < 3; ++a) check_grid_cubes((double(hi[a]) - double(lo[a])) / voxel_);
     // Kept between frames: a run whose frames stay under the sample measures every frame.
-    spacing_heads_.resize(std::max(spacing_heads_.size(), spacing_table_size(p.size()) + 1));
+    spacing_heads_.resize(std::max(spacing_heads_.size(), cell_hash_table_size(p.size()) + 1));
     spacing_order_.resize(std::max(spacing_order_.size(), p.size()));
     spacing_values_.resize(kSpacingSamples);
     const float spacing =
@@ -131,7 +160,10 @@ void SlicesExtractor::grow_scratch(std::uint32_t particles, std::uint32_t cache_
     for (const auto& s : scratch_) {
         ensure(s->order, particles), ensure(s->mids, particles);
         ensure(s->rows, std::size_t(particles) * lookup_row_slots(grid_));
-        ensure(s->entries, cache_entries);
+        if (settings_.anisotropy > 0)
+            ensure(s->aniso_entries, cache_entries);
+        else
+            ensure(s->entries, cache_entries);
     }
 }
 
@@ -182,6 +214,11 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
                 if (!std::isfinite(axes[a][i]))
                     throw std::invalid_argument(fmt::format("particle {} has a non-finite coordinate", i));
     if (!field_resolved_) resolve_field(p, lo, hi);
+    // The smoothed centres are weighted means of positions: inside these bounds too.
+    if (settings_.anisotropy > 0) {
+        hash_ = build_cell_hash(p, lo, anisotropy_params().radius, hash_heads_, hash_order_);
+        sort_cell_hash_positions(hash_, p, hash_x_, hash_y_, hash_z_);
+    }
     float origin[3];
     std::uint32_t nb[3];
     for (int a = 0; a < 3; ++a) {
@@ -210,7 +247,8 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
 void SlicesExtractor::block_count(ConstPositions p, std::uint32_t chunk) {
     const std::size_t begin = std::size_t(chunk) * kChunk, n = std::min(particles_, begin + kChunk) - begin;
     const std::size_t blocks = grid_.blocks();
-    block_count_chunk(grid_, {p.x.subspan(begin, n), p.y.subspan(begin, n), p.z.subspan(begin, n)},
+    const ConstPositions c = centres(p);
+    block_count_chunk(grid_, {c.x.subspan(begin, n), c.y.subspan(begin, n), c.z.subspan(begin, n)},
                       chunk_counts_.span(std::size_t(chunks_) * blocks).subspan(chunk * blocks, blocks));
 }
 
@@ -263,7 +301,8 @@ void SlicesExtractor::block_prefix() {
 void SlicesExtractor::block_scatter(ConstPositions p, std::uint32_t chunk) {
     const std::size_t begin = std::size_t(chunk) * kChunk, n = std::min(particles_, begin + kChunk) - begin;
     const std::size_t blocks = grid_.blocks();
-    block_scatter_chunk(grid_, {p.x.subspan(begin, n), p.y.subspan(begin, n), p.z.subspan(begin, n)},
+    const ConstPositions c = centres(p);
+    block_scatter_chunk(grid_, {c.x.subspan(begin, n), c.y.subspan(begin, n), c.z.subspan(begin, n)},
                         static_cast<std::uint32_t>(begin),
                         chunk_cursors_.span(std::size_t(chunks_) * blocks).subspan(chunk * blocks, blocks),
                         {block_entries_.span(entries_), entry_x_.span(entries_), entry_y_.span(entries_),
@@ -300,16 +339,33 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     const std::size_t offset_slots = lookup_offset_slots(grid_);
     const LookupScratch ls{s.order.span(np), s.mids.span(np), s.sort_counts.span(lookup_sort_slots(grid_)),
                            s.rows.span(std::size_t(np) * lookup_row_slots(grid_))};
-    std::uint32_t need =
-        build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(offset_slots),
-                           s.entries.span(s.entries.capacity()));
-    if (need > s.entries.capacity()) {
-        ensure(s.entries, need);
-        need = build_lookup_cache(grid_, bi, bj, bk, particles, ls, s.column_offsets.span(offset_slots),
-                                  s.entries.span(s.entries.capacity()));
-    }
-    const LookupCacheView cache{s.column_offsets.span(offset_slots), s.entries.span(need), grid_.reach,
-                                lookup_groups(grid_), (grid_.n + 1) * (grid_.n + 1)};
+    const std::uint32_t groups = lookup_groups(grid_), columns = (grid_.n + 1) * (grid_.n + 1);
+    const std::span<const std::uint32_t> ids = block_entries_.span(entries_).subspan(first, np);
+    const ConstKernelShapes shapes = kernel_shapes();
+    auto build = [&](auto& entries, auto&& builder) {
+        std::uint32_t need = builder(entries.span(entries.capacity()));
+        if (need > entries.capacity()) {
+            ensure(entries, need);
+            need = builder(entries.span(entries.capacity()));
+        }
+        return need;
+    };
+    const bool aniso = settings_.anisotropy > 0;
+    const std::uint32_t need =
+        aniso ? build(s.aniso_entries,
+                      [&](std::span<AnisoEntry> e) {
+                          return build_aniso_lookup_cache(grid_, bi, bj, bk, particles, ids, shapes, ls,
+                                                          s.column_offsets.span(offset_slots), e);
+                      })
+              : build(s.entries, [&](std::span<ColumnEntry> e) {
+                    return build_lookup_cache(grid_, bi, bj, bk, particles, ls,
+                                              s.column_offsets.span(offset_slots), e);
+                });
+    const LookupCacheView cache{s.column_offsets.span(offset_slots), s.entries.span(aniso ? 0 : need),
+                                grid_.reach, groups, columns};
+    const AnisoLookupCacheView aniso_cache{s.column_offsets.span(offset_slots),
+                                           s.aniso_entries.span(aniso ? need : 0), grid_.reach, groups,
+                                           columns};
     slots_[item].particles = np, slots_[item].cache_entries = need;
 
     // Neighbours that list no particle: their shared face carries no surface (march_block). Faces shared
@@ -347,11 +403,12 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     if (slot.positions.capacity() == 0) grow(1024, 2048);
     for (;;) {
         const std::size_t room = slot.border.capacity();
-        slot.sweep =
-            march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch,
-                        {slot.positions.span(4 * room), slot.triangles.span(slot.triangles.capacity()),
-                         slot.border.span(room), slot.foreign.span(room)},
-                        settings_.exhaustive_seeds, empty_neighbours, shared);
+        const BlockMeshOut mesh{slot.positions.span(4 * room), slot.triangles.span(slot.triangles.capacity()),
+                                slot.border.span(room), slot.foreign.span(room)};
+        slot.sweep = aniso ? march_block(grid_, bi, bj, bk, iso_, aniso_cache, particles, scratch, mesh,
+                                         settings_.exhaustive_seeds, empty_neighbours, shared)
+                           : march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch, mesh,
+                                         settings_.exhaustive_seeds, empty_neighbours, shared);
         if (!slot.sweep.overflow) break;
         grow(2 * room, 2 * slot.triangles.capacity() / 3);
     }
@@ -448,6 +505,7 @@ void SlicesExtractor::stage(std::uint32_t item, SurfaceMesh& out) {
 
 void SlicesExtractor::extract_serial(ConstPositions p, SurfaceMesh& out) {
     begin_frame(p);
+    for (std::uint32_t c = 0; c < shape_chunks(); ++c) shape(p, c);
     for (std::uint32_t c = 0; c < chunks_; ++c) block_count(p, c);
     block_prefix();
     for (std::uint32_t c = 0; c < chunks_; ++c) block_scatter(p, c);

@@ -2,7 +2,10 @@
 // Marching slices as a system (seed 004 §3.2): owns the per-block buffers (block lists, lookup caches,
 // sweep scratch, per-block meshes), grown rarely, and exposes the per-frame jobs the frame graph runs:
 //
-//   begin_frame                      bounds, block grid                     (serial)
+//   begin_frame                      bounds, block grid; anisotropic: the neighbour hash    (serial)
+//   shape(chunk)*                    anisotropic kernels only: smoothed centres and kernel shapes
+//                                    (jobs/anisotropic_kernels.h); the jobs below then place the
+//                                    smoothed centres
 //   block_count(chunk)* -> block_prefix -> block_scatter(chunk)*   particles into blocks (jobs/block_bins.h)
 //   extract_block(block)*            lookup cache + seeds + sweep per non-empty block
 //                                    (jobs/lookup_cache.h, jobs/marching_slices.h)
@@ -25,6 +28,8 @@
 #include <mutex>
 #include <vector>
 
+#include "jobs/anisotropic_kernels.h"
+#include "jobs/cell_hash.h"
 #include "jobs/lookup_cache.h"
 #include "jobs/marching_slices.h"
 #include "jobs/particle_spans.h"
@@ -66,6 +71,15 @@ class SlicesExtractor {
     float iso() const { return iso_; }
     float voxel() const { return voxel_; }
     const SliceGrid& grid() const { return grid_; }
+    // Anisotropic kernels: the last frame's smoothed centres and kernel shapes, one per particle.
+    ConstPositions kernel_centres() const {
+        return {centre_x_.span(particles_), centre_y_.span(particles_), centre_z_.span(particles_)};
+    }
+    ConstKernelShapes kernel_shapes() const {
+        return {shape_sxx_.span(particles_), shape_sxy_.span(particles_), shape_syy_.span(particles_),
+                shape_gx_.span(particles_),  shape_gy_.span(particles_),  shape_c_.span(particles_),
+                shape_amp_.span(particles_)};
+    }
 
     // Sweep scratch for `workers` blocks at once (otherwise grown on demand, one per concurrently running
     // block, the first frames); call at setup with the thread count for an allocation-free first frame.
@@ -74,6 +88,14 @@ class SlicesExtractor {
     // ---- per-frame jobs; `p` must be the same positions for every job of a frame ----
     void begin_frame(ConstPositions p);  // throws on too many particles, non-finite ones, grid limits
     std::uint32_t chunks() const { return chunks_; }
+    // Items of the shape job: chunks() with anisotropic kernels, else 0.
+    static constexpr std::uint32_t kShapeChunk = 1024;  // particles per shape item (each costs ~2 us)
+    std::uint32_t shape_chunks() const {
+        return settings_.anisotropy > 0
+                   ? static_cast<std::uint32_t>((particles_ + kShapeChunk - 1) / kShapeChunk)
+                   : 0;
+    }
+    void shape(ConstPositions p, std::uint32_t chunk);
     void block_count(ConstPositions p, std::uint32_t chunk);
     void block_prefix();
     void block_scatter(ConstPositions p, std::uint32_t chunk);
@@ -125,6 +147,9 @@ class SlicesExtractor {
     void check_grid_cubes(double cells) const;
     // Measures the data's spacing (jobs/particle_spacing.h) and sets the spacing field from it (serial).
     void resolve_field(ConstPositions p, const float lo[3], const float hi[3]);
+    // What the blocks are built from: the smoothed centres with anisotropic kernels, else `p`.
+    ConstPositions centres(ConstPositions p) const;
+    AnisotropyParams anisotropy_params() const;
 
     SlicesSettings settings_;
     std::size_t max_particles_;
@@ -132,6 +157,13 @@ class SlicesExtractor {
     bool field_resolved_ = false;
     std::vector<std::uint32_t> spacing_heads_, spacing_order_;  // particle_spacing's workspace
     std::vector<float> spacing_values_;
+    // Anisotropic kernels: the neighbour hash (built in begin_frame), centres and shapes per particle
+    // (sized for max_particles at construction).
+    std::vector<std::uint32_t> hash_heads_, hash_order_;
+    std::vector<float> hash_x_, hash_y_, hash_z_;
+    CellHash hash_;
+    AlignedArray<float> centre_x_, centre_y_, centre_z_;
+    AlignedArray<float> shape_sxx_, shape_sxy_, shape_syy_, shape_gx_, shape_gy_, shape_c_, shape_amp_;
     float rc_ = 0, iso_ = 0, voxel_ = 0;
     SliceGrid grid_;
 

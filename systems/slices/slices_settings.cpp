@@ -97,9 +97,17 @@ std::string SlicesSettings::validate() const {
         return fmt::format("R_c factor must be in [1, 8], got {}", rc_factor);
     // The lookup cache packs a particle's reach box into 16-bit rows (and a finer voxel is absurd: a
     // particle would touch millions of corners).
-    if (max_rc() / voxel_size() > float(kMaxReach))
-        return fmt::format("--voxel {} is finer than R_c / {} ({}): a particle would reach too many corners",
-                           voxel_size(), kMaxReach, max_rc() / float(kMaxReach));
+    if (!(anisotropy == 0 || (anisotropy >= 1 && anisotropy <= kMaxAnisotropy)))
+        return fmt::format(
+            "--anisotropic must be in [1, {}] (the longest kernel axis over the shortest), got {}",
+            kMaxAnisotropy, anisotropy);
+    if (!(anisotropy_smoothing >= 0 && anisotropy_smoothing <= 1))
+        return fmt::format("anisotropy_smoothing must be in [0, 1], got {}", anisotropy_smoothing);
+    if (max_rc() * reach_factor() / voxel_size() > float(kMaxReach))
+        return fmt::format(
+            "--voxel {} is finer than the kernel's reach / {} ({}): a particle would reach too "
+            "many corners",
+            voxel_size(), kMaxReach, max_rc() * reach_factor() / float(kMaxReach));
     if (!std::isfinite(spacing) || spacing < 0)
         return fmt::format("--spacing must be a positive number, got {}", spacing);
     if (field != SliceField::kSpacing && field != SliceField::kClassic) return "unknown slices field";

@@ -39,6 +39,11 @@ struct SlicesSettings {
     std::uint32_t max_blocks = 1u << 20;       // non-empty blocks a frame may have
     std::uint64_t max_triangles = 1ull << 26;  // triangles a frame may have
     std::uint32_t max_grid_cubes = 1u << 20;   // cubes along any axis
+    // Anisotropic kernels (jobs/anisotropic_kernels.h, Yu & Turk 2013): the longest kernel axis over the
+    // shortest, in [1, kMaxAnisotropy]; 0: spheres. The shapes come from neighbours within
+    // kAnisotropyNeighbourhood particle spacings, centres are smoothed by anisotropy_smoothing.
+    float anisotropy = 0;
+    float anisotropy_smoothing = 0;  // lambda in [0, 1]
     // Seed from every z column too: finds empty cavities (bubbles enclosing no particle) that the
     // heuristic and the face scan can miss, at the cost of evaluating every corner (docs/marching_slices.md).
     bool exhaustive_seeds = false;
@@ -49,6 +54,8 @@ struct SlicesSettings {
     SliceFieldValues field_values(float data_spacing) const;
     // The most R_c any frame can get: the classic R_c, or the spacing field's at the widest spacing.
     float max_rc() const;
+    // How far one particle's kernel can reach: R_c times the longest axis.
+    float reach_factor() const { return anisotropy > 0 ? anisotropy : 1.0f; }
     // Empty when valid, else what is wrong.
     std::string validate() const;
 };
@@ -65,6 +72,12 @@ double lone_particle_iso(double rc_factor);
 // as 2 (beyond one diameter apart particles do not touch, and a flat lattice has no surface one radius
 // above it that a lone particle's sphere would also keep).
 inline constexpr double kMinFieldSpacing = 0.25, kMaxFieldSpacing = 2.0;
+// Anisotropic kernels: the largest axis ratio, the neighbourhood radius in particle spacings (about 65
+// neighbours inside a fluid, 33 under a flat surface) and the fewest neighbours that shape a kernel
+// (fewer: a droplet or a lone particle, a sphere).
+inline constexpr float kMaxAnisotropy = 4.0f, kDefaultAnisotropy = 3.0f;
+inline constexpr float kAnisotropyNeighbourhood = 3.0f;
+inline constexpr std::uint32_t kAnisotropyMinNeighbours = 20;
 
 // The spacing field's rule for particles `spacing` radii apart (clamped to the range above): the one
 // R_c (in radii) and iso for which a lone particle is a sphere of radius 1 and a flat cubic lattice of

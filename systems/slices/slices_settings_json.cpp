@@ -10,6 +10,7 @@ void members(SlicesSettings& s, F&& f) {
     f("rc_factor", s.rc_factor);
     f("iso", s.iso), f("max_blocks", s.max_blocks), f("max_triangles", s.max_triangles);
     f("max_grid_cubes", s.max_grid_cubes), f("exhaustive_seeds", s.exhaustive_seeds);
+    f("anisotropy", s.anisotropy), f("anisotropy_smoothing", s.anisotropy_smoothing);
 }
 
 nlohmann::json slices_settings_to_json(const SlicesSettings& settings) {

@@ -6,22 +6,25 @@
 #include <unordered_map>
 
 #include "jobs/marching_tables.h"
+#include "systems/slices/slices_settings.h"
 
 namespace rivulet::test {
 
-ReferenceMesh reference_marching_cubes(const SliceGrid& g, float iso, ConstPositions p) {
-    const SliceKernel f = SliceKernel::from_rc(g.rc);
+namespace {
+
+// F at every corner of the grid: term(q, px, py, pz) of every particle q, summed in the global order
+// (slab of the centre, then particle index). A particle adds exactly +0 beyond its reach; skipping those
+// farther than `reach` voxels in z (plus a slab for rounding) keeps the oracle quick without relying on
+// the extractor's own reach.
+template <class Term>
+std::vector<float> corner_field(const SliceGrid& g, ConstPositions p, float reach, Term&& term) {
     const std::uint32_t nx = g.corners_x(), ny = g.corners_y(), nz = g.corners_z();
-    // Global summation order: slab of the centre, then particle index.
     std::vector<std::uint32_t> order(p.size());
     std::iota(order.begin(), order.end(), 0u);
     std::vector<std::int32_t> mid(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) mid[i] = SliceGrid::cell(p.z[i], g.oz, g.inv_voxel);
     std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return mid[a] < mid[b]; });
-
-    // A particle adds exactly +0 beyond R_c; skipping those farther than twice R_c in z (plus a slab for
-    // rounding) keeps the oracle quick without relying on the extractor's own reach.
-    const std::int32_t skip = 2 * static_cast<std::int32_t>(std::ceil(g.rc / g.voxel)) + 2;
+    const std::int32_t skip = 2 * static_cast<std::int32_t>(std::ceil(reach / g.voxel)) + 2;
     std::vector<float> field(std::size_t(nx) * ny * nz);
     for (std::uint32_t k = 0; k < nz; ++k)
         for (std::uint32_t j = 0; j < ny; ++j)
@@ -31,11 +34,43 @@ ReferenceMesh reference_marching_cubes(const SliceGrid& g, float iso, ConstPosit
                 float sum = 0.0f;
                 for (std::uint32_t q : order) {
                     if (std::abs(mid[q] - std::int32_t(k)) > skip) continue;  // adds exactly 0
-                    const float dx = p.x[q] - px, dy = p.y[q] - py, dz = p.z[q] - pz;
-                    sum += f(dx * dx + dy * dy + dz * dz);
+                    sum += term(q, px, py, pz);
                 }
                 field[(std::size_t(k) * ny + j) * nx + i] = sum;
             }
+    return field;
+}
+
+ReferenceMesh polygonise(const SliceGrid& g, float iso, const std::vector<float>& field);
+
+}  // namespace
+
+ReferenceMesh reference_marching_cubes(const SliceGrid& g, float iso, ConstPositions p) {
+    const SliceKernel f = SliceKernel::from_rc(g.rc);
+    return polygonise(g, iso, corner_field(g, p, g.rc, [&](std::uint32_t q, float px, float py, float pz) {
+                          const float dx = p.x[q] - px, dy = p.y[q] - py, dz = p.z[q] - pz;
+                          return f(dx * dx + dy * dy + dz * dz);
+                      }));
+}
+
+ReferenceMesh reference_marching_cubes(const SliceGrid& g, float iso, ConstPositions p,
+                                       const ConstKernelShapes& k) {
+    const SliceKernel f = SliceKernel::from_rc(g.rc);
+    // The anisotropic term as jobs/anisotropic_kernels.h writes it, by the same float expressions as the
+    // lookup cache (so the same bits).
+    return polygonise(
+        g, iso, corner_field(g, p, g.rc * kMaxAnisotropy, [&](std::uint32_t q, float px, float py, float pz) {
+            const float dx = px - p.x[q], dy = py - p.y[q];
+            const float a = (k.sxx[q] * dx + 2.0f * k.sxy[q] * dy) * dx + k.syy[q] * (dy * dy);
+            const float dz = (p.z[q] + k.gx[q] * dx + k.gy[q] * dy) - pz;
+            return k.amp[q] * f(a + k.c[q] * (dz * dz));
+        }));
+}
+
+namespace {
+
+ReferenceMesh polygonise(const SliceGrid& g, float iso, const std::vector<float>& field) {
+    const std::uint32_t nx = g.corners_x(), ny = g.corners_y(), nz = g.corners_z();
     auto at = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
         return field[(std::size_t(k) * ny + j) * nx + i];
     };
@@ -71,6 +106,8 @@ ReferenceMesh reference_marching_cubes(const SliceGrid& g, float iso, ConstPosit
             }
     return out;
 }
+
+}  // namespace
 
 std::vector<std::array<float, 9>> canonical_triangles(const std::vector<float>& pos, std::size_t stride,
                                                       const std::vector<std::uint32_t>& idx) {

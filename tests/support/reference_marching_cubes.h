@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "jobs/anisotropic_kernels.h"
 #include "jobs/particle_spans.h"
 #include "jobs/slice_field.h"
 
@@ -17,6 +18,9 @@ struct ReferenceMesh {
 };
 
 ReferenceMesh reference_marching_cubes(const SliceGrid& grid, float iso, ConstPositions particles);
+// The same with anisotropic kernels: `particles` are the smoothed centres, `shapes` theirs.
+ReferenceMesh reference_marching_cubes(const SliceGrid& grid, float iso, ConstPositions particles,
+                                       const ConstKernelShapes& shapes);
 
 // Triangles as position triples, each rotated to start at its smallest vertex (orientation kept), sorted.
 std::vector<std::array<float, 9>> canonical_triangles(const std::vector<float>& positions, std::size_t stride,
