@@ -94,7 +94,8 @@ MeshAdjacency mesh_adjacency(std::span<const std::uint32_t> indices, std::size_t
 }
 
 void laplacian_step(std::span<const float> in, std::span<float> out, std::size_t stride,
-                    const MeshAdjacency& adjacency, float factor, std::size_t begin, std::size_t end) {
+                    const MeshAdjacency& adjacency, float factor, std::size_t begin, std::size_t end,
+                    std::span<const float> weights) {
     for (std::size_t v = begin; v < end; ++v) {
         const float* p = &in[stride * v];
         float* q = &out[stride * v];
@@ -107,12 +108,13 @@ void laplacian_step(std::span<const float> in, std::span<float> out, std::size_t
             sum[0] += n[0], sum[1] += n[1], sum[2] += n[2];
         }
         const float inv = 1.0f / static_cast<float>(last - first);
-        for (int a = 0; a < 3; ++a) q[a] = p[a] + factor * (sum[a] * inv - p[a]);
+        const float f = weights.empty() ? factor : factor * weights[v];
+        for (int a = 0; a < 3; ++a) q[a] = p[a] + f * (sum[a] * inv - p[a]);
     }
 }
 
 SmoothingReport smooth_mesh(std::span<float> vertices6, std::span<const std::uint32_t> indices,
-                            int iterations) {
+                            int iterations, std::span<const float> weights) {
     SmoothingReport report;
     const std::size_t n = vertices6.size() / 6;
     if (n == 0 || indices.empty()) return report;
@@ -138,8 +140,8 @@ SmoothingReport smooth_mesh(std::span<float> vertices6, std::span<const std::uin
     const std::vector<double> area0 = area;
     std::vector<float> scratch(vertices6.size());
     for (int it = 0; it < iterations; ++it) {
-        laplacian_step(vertices6, scratch, 6, adj, kLambda, 0, n);
-        laplacian_step(scratch, vertices6, 6, adj, kMu, 0, n);
+        laplacian_step(vertices6, scratch, 6, adj, kLambda, 0, n, weights);
+        laplacian_step(scratch, vertices6, 6, adj, kMu, 0, n, weights);
     }
     area_normals(vertices6, indices);
     // Move each component along its normals by the distance that gives back its volume: dV = A d.

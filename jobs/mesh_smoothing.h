@@ -9,8 +9,8 @@
 // a few triangles) keeps its unsmoothed vertices. Normals are recomputed, area-weighted. Topology never
 // changes.
 //
-// Differs from Löschner et al. 2023 (splashsurf), which weight each vertex's step by how many particles
-// are near it: here every vertex takes the same step; their weighting is the next step (docs).
+// With per-vertex weights (jobs/smoothing_weights.h, Löschner et al. 2023) each vertex's steps are
+// scaled by its weight, so droplets and thin sheets, which few particles hold, keep their shape.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -25,10 +25,12 @@ struct MeshAdjacency {
 };
 MeshAdjacency mesh_adjacency(std::span<const std::uint32_t> indices, std::size_t vertex_count);
 
-// One Laplacian step on vertices [begin, end): out = p + factor (mean of neighbours - p), positions at
-// `stride` floats per vertex (the first three), others copied. A vertex without neighbours stays.
+// One Laplacian step on vertices [begin, end): out = p + factor w (mean of neighbours - p), positions at
+// `stride` floats per vertex (the first three), others copied; w = weights[v], or 1 when `weights` is
+// empty. A vertex without neighbours stays.
 void laplacian_step(std::span<const float> in, std::span<float> out, std::size_t stride,
-                    const MeshAdjacency& adjacency, float factor, std::size_t begin, std::size_t end);
+                    const MeshAdjacency& adjacency, float factor, std::size_t begin, std::size_t end,
+                    std::span<const float> weights = {});
 
 struct SmoothingReport {
     std::uint32_t components = 0;
@@ -36,8 +38,9 @@ struct SmoothingReport {
     double volume_before = 0, volume_after = 0;  // signed, summed over components
 };
 
-// Smooths `vertices6` (position and normal per vertex) in place; `iterations` Taubin pairs. Serial.
+// Smooths `vertices6` (position and normal per vertex) in place; `iterations` Taubin pairs, each vertex's
+// steps scaled by weights[v] when `weights` is not empty. Serial.
 SmoothingReport smooth_mesh(std::span<float> vertices6, std::span<const std::uint32_t> indices,
-                            int iterations);
+                            int iterations, std::span<const float> weights = {});
 
 }  // namespace rivulet

@@ -8,6 +8,7 @@
 
 #include "jobs/mesh_hash.h"
 #include "jobs/mesh_smoothing.h"
+#include "jobs/smoothing_weights.h"
 #include "support/test_support.h"
 #include "systems/slices/slices_extractor.h"
 
@@ -131,4 +132,49 @@ TEST(MeshSmoothing, AComponentItWouldCollapseKeepsItsVertices) {
     for (std::size_t v = 0; v < 4; ++v)
         for (int a = 0; a < 3; ++a) EXPECT_EQ(m.v6[6 * v + std::size_t(a)], before[6 * v + std::size_t(a)]);
     EXPECT_NEAR(r.volume_after, r.volume_before, 1e-12);
+}
+
+TEST(SmoothingWeights, FullOverTheBulkNoneOverALoneParticleAndTheyKeepSplashesInShape) {
+    // A cubic lattice's own count for support 2 spacings: 1 + 6 (3/4) + 12 (1/2) + 8 (1/4) = 13.5.
+    EXPECT_NEAR(lattice_neighbour_count(2.0), 13.5, 1e-12);
+    const float radius = 0.05f;
+    std::vector<float> x, y, z;
+    slab_and_ball(radius, x, y, z);
+    const float lone[3] = {-20 * radius, 5 * radius, 0};  // a droplet of one particle
+    x.push_back(lone[0]), y.push_back(lone[1]), z.push_back(lone[2]);
+    Mesh m = slices_mesh(x, y, z, radius);
+    std::vector<float> w;
+    smoothing_weights({x, y, z}, radius, m.v6, w);
+    ASSERT_EQ(w.size(), m.v6.size() / 6);
+    double top = 0, droplet = 0;
+    std::size_t tops = 0, drops = 0;
+    for (std::size_t v = 0; v < w.size(); ++v) {
+        const float* p = &m.v6[6 * v];
+        EXPECT_TRUE(w[v] >= 0 && w[v] <= 1) << w[v];
+        if (p[0] < -10 * radius) droplet += w[v], ++drops;
+        if (p[0] > 5 * radius && p[0] < 18 * radius && p[1] > 5 * radius && p[1] < 18 * radius && p[5] > 0.5f)
+            top += w[v], ++tops;
+    }
+    ASSERT_GT(drops, 10u);
+    ASSERT_GT(tops, 100u);
+    EXPECT_LT(droplet / double(drops), 0.01) << "a lone particle's sphere is hardly smoothed";
+    EXPECT_GT(top / double(tops), 0.3) << "the slab's top, a surface over the bulk, is";
+
+    // 20 pairs: unweighted, the lone sphere shrinks and is pushed back out along its normals; weighted,
+    // it stays where it was, and the slab's top is flattened all the same.
+    Mesh weighted = m, plain = m;
+    smooth_mesh(plain.v6, plain.idx, 20);
+    smooth_mesh(weighted.v6, weighted.idx, 20, w);
+    auto droplet_drift = [&](const Mesh& s) {
+        double most = 0;
+        for (std::size_t v = 0; v < s.v6.size() / 6; ++v)
+            if (s.v6[6 * v] < -10 * radius)
+                most = std::max(
+                    most, double(std::hypot(s.v6[6 * v] - m.v6[6 * v], s.v6[6 * v + 1] - m.v6[6 * v + 1],
+                                            s.v6[6 * v + 2] - m.v6[6 * v + 2])));
+        return most / radius;
+    };
+    EXPECT_LT(droplet_drift(weighted), 0.02);
+    EXPECT_GT(droplet_drift(plain), 5 * droplet_drift(weighted));
+    EXPECT_LT(top_tilt(weighted, radius), 0.8 * top_tilt(m, radius));
 }

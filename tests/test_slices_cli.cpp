@@ -172,6 +172,7 @@ TEST(SlicesCli, MeshSmoothsKeepingTheVolumeAndReportsTriangleQuality) {
     ASSERT_EQ(r.status, 0) << r.output;
     const auto j = read_json(json), before = read_json(raw);
     EXPECT_EQ(j["smoothing"]["iterations"], 8);
+    EXPECT_EQ(j["smoothing"]["weights"], "particles") << "Löschner's weights by default";
     EXPECT_NEAR(j["smoothing"]["volume_after"].get<double>() / j["smoothing"]["volume_before"].get<double>(),
                 1.0, 0.01);
     EXPECT_EQ(j["triangles"], before["triangles"]) << "smoothing keeps the topology";
@@ -180,4 +181,12 @@ TEST(SlicesCli, MeshSmoothsKeepingTheVolumeAndReportsTriangleQuality) {
               before["quality"]["min_angle_p05_deg"].get<double>());
     EXPECT_FALSE(before.contains("smoothing"));
     EXPECT_NE(run_cli("mesh " + in + " --method slices --radius 0.03 --smooth -1").status, 0);
+    EXPECT_NE(
+        run_cli("mesh " + in + " --method slices --radius 0.03 --smooth 2 --smooth-weights some").status, 0);
+    const std::string plain = rivulet::test::temp_path("plain.json");
+    ASSERT_EQ(run_cli("mesh " + in +
+                      " --method slices --radius 0.03 --smooth 8 --smooth-weights none --json " + plain)
+                  .status,
+              0);
+    EXPECT_NE(read_json(plain)["mesh_hash"], j["mesh_hash"]);
 }
