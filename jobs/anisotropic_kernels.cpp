@@ -55,15 +55,15 @@ void anisotropic_kernels(ConstPositions p, const CellHash& hash, std::size_t beg
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
         eig.computeDirect(cov);
         const Eigen::Vector3d var = eig.eigenvalues();  // ascending
-        const double sigma_max = std::max(var(2), 0.0);
+        const double var_max = std::max(var(2), 0.0);
         // Neighbours all (nearly) on one point: no shape to follow.
-        if (eig.info() != Eigen::Success || !(sigma_max > 1e-6 * radius)) {
+        if (eig.info() != Eigen::Success || !(var_max > 1e-6 * radius * radius)) {
             write_sphere(out, i);
             continue;
         }
-        const double floor = sigma_max / params.max_stretch;
+        const double least = var_max / params.max_stretch;
         Eigen::Vector3d axes;
-        for (int k = 0; k < 3; ++k) axes(k) = std::max(std::max(var(k), 0.0), floor);
+        for (int k = 0; k < 3; ++k) axes(k) = std::max(std::max(var(k), 0.0), least);
         axes /= axes.minCoeff();
         const Eigen::Matrix3d& rot = eig.eigenvectors();
         const Eigen::Matrix3d m = rot * axes.cwiseInverse().cwiseAbs2().asDiagonal() * rot.transpose();

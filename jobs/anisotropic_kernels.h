@@ -7,11 +7,11 @@
 // Per particle i, over its neighbours j within `radius` (itself included), with weights
 // w = 1 - (|x_j - x_i| / radius)^3:
 //   - the weighted mean m_i and covariance C_i of the neighbours' positions (in double, in index order);
-//   - the smoothed centre x_i + smoothing (m_i - x_i) (their eq. 6, lambda = `smoothing`): the
-//     particles' jitter along a flat surface is averaged out of the centres too;
-//   - C_i = R diag(sigma^2) R^T by Eigen's SelfAdjointEigenSolver, axis lengths sigma_k, each clamped
-//     to at least sigma_max / max_stretch (their k_r), then scaled so the shortest is 1: axes a_k in
-//     [1, max_stretch];
+//   - the smoothed centre x_i + smoothing (m_i - x_i) (their eq. 6, lambda = `smoothing`): averages the
+//     particles' jitter out of the centres, and pulls surface particles in towards their neighbours;
+//   - C_i = R diag(lambda_k) R^T by Eigen's SelfAdjointEigenSolver; as in the paper the axes follow the
+//     eigenvalues (variances, not their square roots), each clamped to at least the largest / max_stretch
+//     (their k_r), then scaled so the shortest is 1: axes a_k in [1, max_stretch];
 //   - fewer than `min_neighbours` neighbours (a droplet, a lone particle) or a degenerate C: a sphere.
 // Where this departs from the paper (docs/marching_slices.md, "Anisotropic kernels"): the shortest axis
 // is the isotropic R_c and the kernel's amplitude is 1 / (a_1 a_2 a_3), so every kernel keeps the
@@ -36,9 +36,9 @@
 namespace rivulet {
 
 struct AnisotropyParams {
-    float radius = 1;        // neighbourhood radius
-    float max_stretch = 2;   // longest / shortest axis, >= 1
-    float smoothing = 0.5f;  // lambda in [0, 1]
+    float radius = 1;       // neighbourhood radius
+    float max_stretch = 3;  // longest / shortest axis, >= 1
+    float smoothing = 0;    // lambda in [0, 1]
     std::uint32_t min_neighbours = 20;
 };
 
