@@ -90,6 +90,39 @@ Top top_face(const SurfaceMesh& m, float radius, float lo, float hi, float margi
 
 }  // namespace
 
+TEST(CellHash, WithinQueriesFindEveryNeighbourOnceInTheScalarOrder) {
+    // Random points, some coincident, some on cell borders: the four-lane query against the plain
+    // 27-cell walk filtered by the same float expression, and against brute force.
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> at(0.0f, 1.0f);
+    Cloud c;
+    for (int i = 0; i < 1500; ++i) c.add(at(rng), at(rng), at(rng));
+    for (int i = 0; i < 20; ++i) c.add(0.5f, 0.5f, 0.5f);
+    for (int i = 0; i < 50; ++i) c.add(0.1f * float(i % 10), 0.2f, 0.1f * float(i / 10));
+    const float cell = 0.1f, r2_max = cell * cell;
+    std::vector<std::uint32_t> heads(cell_hash_table_size(c.size()) + 1), order(c.size());
+    const float origin[3] = {0, 0, 0};
+    CellHash plain = build_cell_hash(c.pos(), origin, cell, heads, order);
+    CellHash sorted = plain;
+    std::vector<float> sx(c.size()), sy(c.size()), sz(c.size());
+    sort_cell_hash_positions(sorted, c.pos(), sx, sy, sz);
+    for (std::size_t i = 0; i < c.size(); i += 7) {
+        std::vector<std::uint32_t> want, got;
+        for_each_near(c.pos(), plain, i, 1u << 20, [&](std::uint32_t j, float dx, float dy, float dz) {
+            if (dx * dx + dy * dy + dz * dz < r2_max) want.push_back(j);
+        });
+        for_each_within(sorted, c.x[i], c.y[i], c.z[i], r2_max, 1u << 20,
+                        [&](std::uint32_t j, float, float, float, float) { got.push_back(j); });
+        ASSERT_EQ(got, want) << i;
+        std::size_t brute = 0;
+        for (std::size_t j = 0; j < c.size(); ++j) {
+            const float dx = c.x[j] - c.x[i], dy = c.y[j] - c.y[i], dz = c.z[j] - c.z[i];
+            brute += dx * dx + dy * dy + dz * dz < r2_max;
+        }
+        EXPECT_EQ(got.size(), brute) << i;
+    }
+}
+
 TEST(AnisotropicKernels, SurfaceParticlesFlattenInteriorOnesStayRoundLonersAreSpheres) {
     const float d = 0.1f;
     const Cloud c = slab(d, 14, 7, 0.0f, 1);
