@@ -202,8 +202,9 @@ std::uint32_t build_aniso_lookup_cache(const SliceGrid& g, std::uint32_t bi, std
         axis_x[std::size_t(i)] = g.cx(i0 + i), axis_y[std::size_t(i)] = g.cy(j0 + i);
     sort_by_mid_z(g, k0, p.z, np, s);
 
-    // The metric's distance from particle q's centre to column (i, j), one float expression for both
-    // passes (a column on a block border gets the same bits from both blocks).
+    // The metric's distance from a particle's centre to a column, in float, the expression the test
+    // oracle repeats (a column on a block border gets the same bits from both blocks); pass 1 finds the
+    // runs from the roots in double instead, with a column of margin.
     auto column_a = [&](std::uint32_t id, float dx, float dy) {
         return (shape.sxx[id] * dx + 2.0f * shape.sxy[id] * dy) * dx + shape.syy[id] * (dy * dy);
     };
