@@ -6,6 +6,11 @@ add_library(rivulet_options INTERFACE)
 target_compile_options(rivulet_options INTERFACE
   $<$<COMPILE_LANGUAGE:CXX>:-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
   -ffp-contract=off -fno-math-errno -fno-trapping-math>)
+# Position-independent code (for the Python module) would otherwise let every exported function be
+# interposed, and so not inlined within its own file.
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  target_compile_options(rivulet_options INTERFACE $<$<COMPILE_LANGUAGE:CXX>:-fno-semantic-interposition>)
+endif()
 if(RIVULET_SANITIZE STREQUAL "address")
   # vptr is off: oneTBB's flow-graph headers destroy a task and then downcast it (a known false positive).
   target_compile_options(rivulet_options INTERFACE -fsanitize=address,undefined -fno-sanitize=vptr

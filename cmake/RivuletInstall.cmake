@@ -4,7 +4,9 @@ include(CMakePackageConfigHelpers)
 install(TARGETS rivulet rivulet_jobs rivulet_systems rivulet_runtime rivulet_options EXPORT rivuletTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS rivulet_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(DIRECTORY jobs systems runtime DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rivulet FILES_MATCHING PATTERN "*.h")
+# Only the public API's headers: consumers include <rivulet/...>; the internals stay private.
+install(DIRECTORY include/rivulet DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+install(FILES ${PROJECT_BINARY_DIR}/include/rivulet/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rivulet)
 install(EXPORT rivuletTargets NAMESPACE rivulet:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/rivulet)
 configure_package_config_file(cmake/rivuletConfig.cmake.in ${PROJECT_BINARY_DIR}/rivuletConfig.cmake
                               INSTALL_DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/rivulet)

@@ -46,3 +46,35 @@ TEST_P(SlicesSteadyState, FramesAllocateNothing) {
 
 INSTANTIATE_TEST_SUITE_P(Kernels, SlicesSteadyState, ::testing::Values(0.0f, kDefaultAnisotropy),
                          [](const auto& p) { return p.param > 0 ? "Anisotropic" : "Spheres"; });
+
+// Frames under SlicesExtractor::kSpacingSamples particles are each measured for themselves, so R_c (and
+// with it the lookup cache's reach) can grow from one frame to the next: a sparse frame after a dense one
+// must not overrun the sweep scratch the dense frame sized (a fountain's first frames).
+TEST(SlicesFrames, AWiderFieldAfterANarrowerOneFitsItsScratch) {
+    ThreadControl control(2);
+    SlicesSettings s;
+    s.radius = 0.012f;
+    s.block_cubes = 8;
+    SlicesExtractor slices(s, 1000);
+    SurfaceMesh mesh;
+    ParticleSet frames[2] = {ParticleSet(1000), ParticleSet(1000)};
+    const float spacing[2] = {0.008f, 0.03f};  // R_c follows the spacing: narrow, then wide
+    for (int f = 0; f < 2; ++f)
+        for (int i = 0, id = 0; i < 9; ++i)
+            for (int j = 0; j < 9; ++j)
+                for (int k = 0; k < 9; ++k)
+                    frames[f].push(spacing[f] * float(i), spacing[f] * float(j), spacing[f] * float(k), 0, 0,
+                                   0, static_cast<std::uint32_t>(id++));
+    int frame = 0;
+    FrameGraph graph;
+    add_slices_jobs(
+        graph, slices, [&] { return frames[frame % 2].positions(); },
+        [&mesh]() -> SurfaceMesh& { return mesh; });
+    float rc[2] = {0, 0};
+    for (; frame < 4; ++frame) {
+        graph.run();
+        rc[frame % 2] = slices.rc();
+        EXPECT_GT(mesh.triangle_count(), 100u) << "frame " << frame;
+    }
+    EXPECT_GT(rc[1], 1.5f * rc[0]);
+}

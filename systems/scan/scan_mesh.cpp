@@ -7,6 +7,14 @@ namespace rivulet {
 
 TriangleMesh assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& layout, float radius) {
     TriangleMesh mesh;
+    assemble_scan_mesh(out, layout, radius, mesh);
+    return mesh;
+}
+
+void assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& layout, float radius,
+                        TriangleMesh& mesh) {
+    mesh.vertices.clear();
+    mesh.indices.clear();
     const std::uint32_t u = layout.u;
     const std::size_t vpc = layout.verts_per_cylinder();
     for (const GroupDraw& d : out.draws.span(out.draw_count)) {
@@ -49,7 +57,6 @@ TriangleMesh assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& lay
         }
         for (std::uint32_t i : sphere.indices) mesh.indices.push_back(base + i);
     }
-    return mesh;
 }
 
 std::uint64_t mesh_hash(const TriangleMesh& mesh) {

@@ -20,6 +20,9 @@ struct TriangleMesh {
 // Each drawn cylinder in group order (its side vertices of rings [vmin, vmax] and its two end poles,
 // closed by the caps), then one low-resolution sphere per isolated particle of radius `radius`.
 TriangleMesh assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& layout, float radius);
+// The same into `mesh`, whose buffers are reused (no allocation once they are large enough).
+void assemble_scan_mesh(const ScanOutput& out, const CylinderLayout& layout, float radius,
+                        TriangleMesh& mesh);
 
 // mesh_hash: XXH3-64 of the vertex buffer bytes followed by the index buffer bytes.
 std::uint64_t mesh_hash(const TriangleMesh& mesh);

@@ -160,6 +160,10 @@ void SlicesExtractor::grow_scratch(std::uint32_t particles, std::uint32_t cache_
     for (const auto& s : scratch_) {
         ensure(s->order, particles), ensure(s->mids, particles);
         ensure(s->rows, std::size_t(particles) * lookup_row_slots(grid_));
+        // The reach sets these; it grows when a frame's field is measured again (forget_field) with a
+        // wider R_c than the frame the scratch was made for.
+        ensure(s->sort_counts, lookup_sort_slots(grid_)),
+            ensure(s->column_offsets, lookup_offset_slots(grid_));
         if (settings_.anisotropy > 0)
             ensure(s->aniso_entries, cache_entries);
         else
@@ -337,6 +341,7 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
     ensure(s.order, np), ensure(s.mids, np);
     ensure(s.rows, std::size_t(np) * lookup_row_slots(grid_));
     const std::size_t offset_slots = lookup_offset_slots(grid_);
+    ensure(s.sort_counts, lookup_sort_slots(grid_)), ensure(s.column_offsets, offset_slots);
     const LookupScratch ls{s.order.span(np), s.mids.span(np), s.sort_counts.span(lookup_sort_slots(grid_)),
                            s.rows.span(std::size_t(np) * lookup_row_slots(grid_))};
     const std::uint32_t groups = lookup_groups(grid_), columns = (grid_.n + 1) * (grid_.n + 1);

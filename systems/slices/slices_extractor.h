@@ -67,6 +67,11 @@ class SlicesExtractor {
     // sequence's surface does not breathe with the estimate); smaller frames before it are measured each
     // for itself. Until the first non-empty frame rc() is the widest R_c the settings allow.
     const SliceFieldValues& field() const { return field_; }
+    // Measures the spacing again at the next frame (the spacing field without a set spacing): for callers
+    // whose frames are unrelated, so that each surface depends on its own particles only.
+    void forget_field() {
+        field_resolved_ = settings_.field == SliceField::kClassic || settings_.spacing > 0;
+    }
     float rc() const { return rc_; }
     float iso() const { return iso_; }
     float voxel() const { return voxel_; }
