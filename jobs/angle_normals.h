@@ -1,5 +1,5 @@
 #pragma once
-// Angle-weighted vertex normals (seed 004 §3.2.5): each triangle adds its unit face normal to each of its
+// Angle-weighted vertex normals (Janisz §3.2.5): each triangle adds its unit face normal to each of its
 // vertices weighted by the triangle's angle at that vertex, so long thin triangles do not dominate.
 #include <cstdint>
 #include <span>

@@ -1,7 +1,8 @@
 #pragma once
-// One frame of ballistic particle motion (seed 000 §3): gravity, semi-implicit Euler substeps, contacts
-// with a ground plane, spheres and boxes, absorption by a height-field surface. Each particle's result
-// depends on that particle and the read-only inputs alone, so any split of the range gives the same bits.
+// One frame of ballistic particle motion (Hoetzlein & Höllerer 2009 §3): gravity, semi-implicit Euler
+// substeps, contacts with a ground plane, spheres and boxes, absorption by a height-field surface. Each
+// particle's result depends on that particle and the read-only inputs alone, so any split of the range
+// gives the same bits.
 #include <cstddef>
 #include <cstdint>
 #include <span>

@@ -1,8 +1,8 @@
 #pragma once
-// The geometric half of grouping (seed 000 §2.2), independent per bin and so run in parallel: for each
-// bin entry, the first entry (lowest position in bin order) within eps among the earlier entries of its
-// own bin, and the first within eps in the bin above. The seed's rules then only look these up
-// (grouping.h), so the serial part of grouping is a single cheap pass.
+// The geometric half of grouping (Hoetzlein & Höllerer 2009 §2.2), independent per bin and so run in
+// parallel: for each bin entry, the first entry (lowest position in bin order) within eps among the earlier
+// entries of its own bin, and the first within eps in the bin above. The paper's rules then only look these
+// up (grouping.h), so the serial part of grouping is a single cheap pass.
 //
 // A query first scans the bin's leading `linear_scan_max` entries in order, four at a time; in a
 // coherent stream that settles almost every query, and a bin no larger than that is only ever scanned.
@@ -36,7 +36,7 @@ struct BinHashes {
 
 std::size_t bin_hash_start_capacity(std::size_t entries, std::size_t bins);
 
-// One job per bin: link[e] for every entry e of bin b, all the seed's rules need of its neighbours: the
+// One job per bin: link[e] for every entry e of bin b, all the paper's rules need of its neighbours: the
 // global index of the first earlier entry of bin b within eps; else, when there is none, the first entry
 // of bin b-1 within eps, or-ed with kLinkAbove; else kNoNeighbour. One word per entry keeps what the
 // serial rules pass reads small. `own` and `above` are two separate tables of the same size (see above);

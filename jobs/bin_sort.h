@@ -1,8 +1,9 @@
 #pragma once
-// Hash-table bin sort along the V axis (seed 000 §2.1): every particle goes into every cross-section bin
-// whose plane its sphere intersects, in linear time, stable (particle index order within a bin).
+// Hash-table bin sort along the V axis (Hoetzlein & Höllerer 2009 §2.1): every particle goes into
+// every cross-section bin whose plane its sphere intersects, in linear time, stable (particle index
+// order within a bin).
 //
-// Bin b is the plane y_b = top - b * spacing (bin 0 at the top, scanning downwards as the seed does).
+// Bin b is the plane y_b = top - b * spacing (bin 0 at the top, scanning downwards as the paper does).
 // The sort runs in chunks of particles so the runtime can count and scatter chunks in parallel; chunk
 // offsets are laid out bin-major, chunk-minor, which keeps the result identical at any thread count.
 #include <cstddef>

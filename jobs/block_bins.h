@@ -1,5 +1,5 @@
 #pragma once
-// Particles into marching-slices blocks (seed 004 §3.2.2): each particle is listed in every block whose
+// Particles into marching-slices blocks (Janisz §3.2.2): each particle is listed in every block whose
 // corners it can influence (block plus a margin of R_c), stable (ascending particle index within a block),
 // in chunks so the runtime can count and scatter in parallel. The prefix step is bin_prefix
 // (jobs/bin_sort.h) with blocks as bins. When block_cubes >= 2 reach + 2 (reach = ceil(R_c / voxel): 10 at

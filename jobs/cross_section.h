@@ -1,7 +1,7 @@
 #pragma once
-// Radial cross-section functions of sphere scan conversion (seed 000 §2.3, Appendix A). The spheres of a
-// group cut a cross-section plane in circles; with the circles' centroid as origin, r(theta) at the U
-// angles of the cylinder gives the ring of vertices.
+// Radial cross-section functions of sphere scan conversion (Hoetzlein & Höllerer 2009 §2.3, Appendix A). The
+// spheres of a group cut a cross-section plane in circles; with the circles' centroid as origin, r(theta) at
+// the U angles of the cylinder gives the ring of vertices.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -29,10 +29,10 @@ struct AngleTable {
 
 // Equation (1): the farthest intersection of the ray at theta with any circle. Where a ray misses a
 // circle the circle contributes its closest approach to the ray instead, which keeps r(theta) continuous
-// (the seed leaves misses unspecified).
+// (the paper leaves misses unspecified).
 void circle_maxima(CirclesView circles, AngleTable angles, std::span<float> r);
 
-// The seed's 3-point iterative smoothing, weights (1/4, 1/2, 1/4), cyclic in theta; `tmp` as large as r.
+// The paper's 3-point iterative smoothing, weights (1/4, 1/2, 1/4), cyclic in theta; `tmp` as large as r.
 void smooth_cyclic(std::span<float> r, int iterations, std::span<float> tmp);
 
 // The same smoothing for kSmoothLanes rings at once, interleaved: r[k * kSmoothLanes + j] is ring j's

@@ -1,6 +1,6 @@
 #pragma once
-// Fixed topology of one pre-tessellated cylinder (seed 000 §2.1). Every cylinder of the pool shares it;
-// only vertex positions change per frame, so the index buffer is built and sent to GL once.
+// Fixed topology of one pre-tessellated cylinder (Hoetzlein & Höllerer 2009 §2.1). Every cylinder of the pool
+// shares it; only vertex positions change per frame, so the index buffer is built and sent to GL once.
 //
 // Rings are cross-section planes along V, ring 0 at the top (largest y). Ring r holds U side vertices,
 // then a top pole and a bottom pole (used only when r is the first/last ring of a group: the caps that

@@ -1,7 +1,7 @@
 #pragma once
-// Vertex normals of one deformed cylinder range (seed 000 §3.2): each vertex's normal is the average of
-// the face normals (area-weighted cross products) of the triangles around it that are drawn this frame:
-// bands [vmin, vmax-1], the top cap of vmin and the bottom cap of vmax.
+// Vertex normals of one deformed cylinder range (Hoetzlein & Höllerer 2009 §3.2): each vertex's normal is the
+// average of the face normals (area-weighted cross products) of the triangles around it that are drawn this
+// frame: bands [vmin, vmax-1], the top cap of vmin and the bottom cap of vmax.
 #include <cstdint>
 #include <span>
 

@@ -1,8 +1,8 @@
 #pragma once
-// Per-group cylinder deformation (seed 000 §2.3): for each ring of the group's range, the spheres of its
-// particles cut the ring's plane in circles; the ring's vertices go to centroid + r(theta_k) (cos, 0, sin)
-// and the end rings' poles close the tube where the group's spheres end. Positions only; normals are
-// their own job (cylinder_normals.h).
+// Per-group cylinder deformation (Hoetzlein & Höllerer 2009 §2.3): for each ring of the group's range, the
+// spheres of its particles cut the ring's plane in circles; the ring's vertices go to centroid + r(theta_k)
+// (cos, 0, sin) and the end rings' poles close the tube where the group's spheres end. Positions only;
+// normals are their own job (cylinder_normals.h).
 #include <cstdint>
 #include <span>
 

@@ -3,7 +3,7 @@
 // cross-sections top to bottom. A stable counting sort by group over the bin table, O(entries), in
 // chunks of consecutive bins: count per chunk, offsets once, scatter per chunk, with cursors laid out
 // group-major, chunk-minor so the lists are the same whatever runs where. Groups keep no particle lists
-// of their own (seed 000 §2.2): these lists are rebuilt every frame.
+// of their own (Hoetzlein & Höllerer 2009 §2.2): these lists are rebuilt every frame.
 #include <cstdint>
 #include <span>
 

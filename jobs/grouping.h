@@ -1,7 +1,8 @@
 #pragma once
-// Grouping of binned particles into streams (seed 000 §2.2), exactly as the seed's pseudocode, scanning
-// bins top to bottom. The unit is a bin entry (a particle's circle in one cross-section): a particle
-// whose sphere cuts several planes has an entry in each, and "for each pj in bin vi" visits entries.
+// Grouping of binned particles into streams (Hoetzlein & Höllerer 2009 §2.2), exactly as the paper's
+// pseudocode, scanning bins top to bottom. The unit is a bin entry (a particle's circle in one
+// cross-section): a particle whose sphere cuts several planes has an entry in each, and "for each pj
+// in bin vi" visits entries.
 //   for each entry pj of bin i, in bin order:
 //     the first earlier entry pk of bin i within eps: isolated -> new group {pj, pk}; grouped -> join Gk;
 //     else the first entry pk of bin i-1 within eps: isolated -> new group {pj, pk};

@@ -1,6 +1,6 @@
 #pragma once
-// Isolated particles (seed 000 §2.2): those whose circles joined no group. They are drawn as instanced
-// low-resolution spheres instead of cylinders.
+// Isolated particles (Hoetzlein & Höllerer 2009 §2.2): those whose circles joined no group. They are drawn as
+// instanced low-resolution spheres instead of cylinders.
 #include <cstdint>
 #include <span>
 

@@ -1,5 +1,5 @@
 #pragma once
-// The particle lookup cache of one marching-slices block (seed 004 §3.2.4): the projection slice of
+// The particle lookup cache of one marching-slices block (Janisz §3.2.4): the projection slice of
 // (n+1)^2 columns; column (i, j) lists every particle whose R_c disc covers the column, sorted by the
 // slab of its centre (mid_z, then particle index). min_z = mid_z - reach and max_z = mid_z + reach + 1
 // bound the slices it can influence, all in block-local integer slice units. The list is cut into groups

@@ -1,6 +1,6 @@
 #pragma once
-// Surface-following marching cubes inside one block ("marching slices", Rosenberg & Birdwell 2008, seed
-// 004 §3.2.3). The block's n^3 cubes form n slabs between n+1 slices (planes of constant z). Each slab
+// Surface-following marching cubes inside one block ("marching slices", Rosenberg & Birdwell 2008,
+// Janisz §3.2.3). The block's n^3 cubes form n slabs between n+1 slices (planes of constant z). Each slab
 // has a todo list of queued cubes, kept as rows of bits (bit_rows.h). The sweep always works on the
 // lowest slab whose list is not empty: it floods it, round by round taking its queued cubes, computing
 // their missing corners and queueing every neighbour across a face the surface crosses (in the slabs

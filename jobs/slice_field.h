@@ -1,5 +1,5 @@
 #pragma once
-// The marching-slices scalar field (seed 004 §3.2.1, eq. 3.4-3.5) and the global corner grid it is
+// The marching-slices scalar field (Janisz §3.2.1, eq. 3.4-3.5) and the global corner grid it is
 // sampled on. Header-only so the extractor and the test oracle evaluate bit-identical values.
 //
 //   F(p) = sum over particles s with |s - p| < R_c of f(|s - p|),

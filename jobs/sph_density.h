@@ -1,8 +1,8 @@
 #pragma once
-// SPH density and pressure (seed 002 §III, Müller et al. 2003 eq. 3): rho_i = sum_j m W_poly6(x_i - x_j),
-// the particle itself included; p_i from the Tait equation of state p = B ((rho / rho0)^gamma - 1),
-// clamped at 0. Gathers over the sorted particles of the 27 cells around each particle in a fixed order,
-// so a particle's result does not depend on how the range is split.
+// SPH density and pressure (Inácio et al. 2010 §III, Müller et al. 2003 eq. 3):
+// rho_i = sum_j m W_poly6(x_i - x_j), the particle itself included; p_i from the Tait equation of state
+// p = B ((rho / rho0)^gamma - 1), clamped at 0. Gathers over the sorted particles of the 27 cells around
+// each particle in a fixed order, so a particle's result does not depend on how the range is split.
 #include <cstddef>
 #include <cstdint>
 #include <span>

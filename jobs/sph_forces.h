@@ -1,5 +1,5 @@
 #pragma once
-// SPH accelerations (seed 002 §III eq. 2, Müller et al. 2003 §3-4), per sorted particle i:
+// SPH accelerations (Inácio et al. 2010 §III eq. 2, Müller et al. 2003 §3-4), per sorted particle i:
 //   pressure   f_p = -sum_j m (p_i + p_j) / (2 rho_j) grad W_spiky(x_i - x_j)
 //   viscosity  f_v = mu sum_j m (v_j - v_i) / rho_j lap W_visc(|x_i - x_j|)
 //   artificial viscosity (Monaghan 1992), only between approaching particles (v_ij . r_ij < 0):

@@ -1,6 +1,6 @@
 #pragma once
-// SPH smoothing kernels of Müller, Charypar & Gross 2003 (seed 002 §III), 3D normalisations. h is the
-// support radius: every kernel is zero for r >= h.
+// SPH smoothing kernels of Müller, Charypar & Gross 2003 (Inácio et al. 2010 §III), 3D normalisations.
+// h is the support radius: every kernel is zero for r >= h.
 //   poly6      W(r)      = 315 / (64 pi h^9) (h^2 - r^2)^3            density, colour field
 //   spiky      grad W(r) = -45 / (pi h^6) (h - r)^2 r/|r|             pressure force
 //   viscosity  lap W(r)  =  45 / (pi h^6) (h - r)                     viscosity force

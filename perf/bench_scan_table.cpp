@@ -1,5 +1,6 @@
-// Seed 000 Table 1 on this machine: sphere scan conversion of a falling-water stream of P particles,
-// timed per stage through the frame graph that `rivulet run` and `rivulet mesh` use (add_scan_jobs).
+// Table 1 of Hoetzlein & Höllerer 2009 on this machine: sphere scan conversion of a falling-water
+// stream of P particles, timed per stage through the frame graph that `rivulet run` and `rivulet mesh`
+// use (add_scan_jobs).
 //
 //   bench_scan_table [--sizes 1000,2000,...] [--threads 1,2] [--runs 100] [--warmup 20] [--streams N]
 //                    [--json FILE]

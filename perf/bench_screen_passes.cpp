@@ -1,4 +1,4 @@
-// Milliseconds of each pass of the screen-space fluid method (seed 004 §3.1) on real frames: copy of the
+// Milliseconds of each pass of the screen-space fluid method (Janisz §3.1) on real frames: copy of the
 // scene behind, sphere depth, depth smoothing, thickness (+ blur), composite. GL is finished after each
 // pass, so the passes do not overlap; the frame's render time is measured in a second run without
 // that, as users see it. Prints one row per scene and depth filter, medians over the frames.

@@ -1,4 +1,4 @@
-// jobs/angle_normals.h: angle-weighted vertex normals (seed 004 §3.2.5) against a double-precision
+// jobs/angle_normals.h: angle-weighted vertex normals (Janisz §3.2.5) against a double-precision
 // reference (std::atan2 angles, exact unit face normals), degenerate triangles, and the AVX2 build against
 // the baseline build byte for byte.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// Bin sort (seed 000 §2.1): every particle lands in exactly the bins its sphere spans, in stable order,
-// whatever the chunking.
+// Bin sort (Hoetzlein & Höllerer 2009 §2.1): every particle lands in exactly the bins its sphere spans, in
+// stable order, whatever the chunking.
 #include <gtest/gtest.h>
 
 #include <algorithm>

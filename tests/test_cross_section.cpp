@@ -1,4 +1,5 @@
-// Radial cross-section functions (seed 000 §2.3, Fig. 5, Appendix A) against the metaball contour.
+// Radial cross-section functions (Hoetzlein & Höllerer 2009 §2.3, Fig. 5, Appendix A) against the
+// metaball contour.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -32,14 +33,14 @@ struct Angles {
     AngleTable view() const { return {c, s}; }
 };
 
-// Circle maxima followed by the seed's I = 10 smoothing iterations, as deformation applies them.
+// Circle maxima followed by the paper's I = 10 smoothing iterations, as deformation applies them.
 void maxima_smoothed(const Circles& c, const Angles& a, std::vector<float>& r, std::vector<float>& tmp) {
     circle_maxima(c.view(), a.view(), r);
     smooth_cyclic(r, 10, tmp);
 }
 
 // Blinn-style metaballs normalised so an isolated circle's boundary has field 1:
-// f(p) = sum_i exp(-4 (|p - c_i|^2 / rho_i^2 - 1)). The seed compares with the contour f = 0.95.
+// f(p) = sum_i exp(-4 (|p - c_i|^2 / rho_i^2 - 1)). The paper compares with the contour f = 0.95.
 double field(const Circles& c, double x, double z) {
     double f = 0;
     for (std::size_t i = 0; i < c.cx.size(); ++i) {
@@ -89,7 +90,7 @@ Error compare(const Circles& c, const Angles& a, const std::vector<float>& r) {
 
 // Tolerances, in units of the largest circle radius of each set. Circle maxima: mean deviation 0.12,
 // worst 0.35. Blended gaussians sit inside the contour by construction (Appendix A blends towards the
-// new maximum without reaching it), so theirs are wider: mean 0.30, worst 0.50; the seed's remark that
+// new maximum without reaching it), so theirs are wider: mean 0.30, worst 0.50; the paper's remark that
 // circle maxima is the more accurate of the two is checked too.
 TEST(CrossSection, BothRadialFunctionsFollowTheMetaballContour) {
     std::mt19937 rng(5);

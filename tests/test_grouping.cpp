@@ -1,5 +1,5 @@
-// Grouping (seed 000 §2.2): the seed's Figure 4, undercut blocking on an arch, and the hashed search
-// against a plain linear-scan transcription of the pseudocode.
+// Grouping (Hoetzlein & Höllerer 2009 §2.2): the paper's Figure 4, undercut blocking on an arch, and the
+// hashed search against a plain linear-scan transcription of the pseudocode.
 #include <gtest/gtest.h>
 
 #include <cmath>

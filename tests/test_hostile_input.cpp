@@ -1,6 +1,5 @@
 // Hostile input (issue 21): endless streams, huge files, absurd scene values, foreign traces and bad
-// options each end in one clear error, before any large allocation or long loop. Every case here was a
-// hang, a crash or an out-of-memory before.
+// options each end in one clear error, before any large allocation or long loop.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-// Marching slices (seed 004 §3.2) against a brute-force marching-cubes oracle over the full grid: same
+// Marching slices (Janisz §3.2) against a brute-force marching-cubes oracle over the full grid: same
 // triangles; closed surfaces watertight across block borders; right geometry; same bytes at any thread
 // count; bad settings and inputs rejected.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Screen-space fluid (seed 004 §3.1) on real pixels: the depth of the sphere pass against ray-sphere
+// Screen-space fluid (Janisz §3.1) on real pixels: the depth of the sphere pass against ray-sphere
 // depth in double precision, the thickness of a column of k spheres against 2 r k, smoothing against a
 // jittered sheet, the background outside the fluid untouched, and the same picture at 1 and 2 threads.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// One water for every surface method (seed 004 §3.1.4): the shading function against its formulas, the
+// One water for every surface method (Janisz §3.1.4): the shading function against its formulas, the
 // mesh methods' thickness against box geometry, and the three methods' coverage of one frame.
 #include <gtest/gtest.h>
 

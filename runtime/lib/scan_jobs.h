@@ -1,6 +1,6 @@
 #pragma once
-// The sphere scan conversion jobs of a frame graph (the seed 000 pipeline), shared by `run` (after the
-// simulation jobs) and `mesh` (alone). See ScanConverter for what each job does.
+// The sphere scan conversion jobs of a frame graph (the pipeline of Hoetzlein & Höllerer 2009), shared by
+// `run` (after the simulation jobs) and `mesh` (alone). See ScanConverter for what each job does.
 #include <functional>
 #include <initializer_list>
 

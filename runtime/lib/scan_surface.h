@@ -1,6 +1,6 @@
 #pragma once
-// Sphere scan conversion (seed 000) as the frame pipeline's surface: the jobs of scan_jobs.h writing a
-// cylinder pool and isolated spheres per slot.
+// Sphere scan conversion (Hoetzlein & Höllerer 2009) as the frame pipeline's surface: the jobs of scan_jobs.h
+// writing a cylinder pool and isolated spheres per slot.
 #include "runtime/lib/surface_system.h"
 #include "systems/scan/scan_converter.h"
 #include "systems/scan/scan_output.h"

@@ -1,5 +1,5 @@
 #pragma once
-// Screen-space fluid (seed 004 §3.1) as the frame pipeline's surface: the workers stage the frame's
+// Screen-space fluid (Janisz §3.1) as the frame pipeline's surface: the workers stage the frame's
 // particle positions into the slot (screen.stage, per chunk); the render thread draws them with the
 // Renderer's screen-space fluid pass. No mesh is made. With spray on, the staged particles are then split
 // by their neighbour counts (jobs/spray_split.h) into the water and the spray the pass draws as sprites.

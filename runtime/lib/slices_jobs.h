@@ -1,5 +1,5 @@
 #pragma once
-// The marching-slices jobs of a frame graph (seed 004 §3.2), shared by `mesh` (alone) and, later, `run`.
+// The marching-slices jobs of a frame graph (Janisz §3.2), shared by `mesh` (alone) and, later, `run`.
 // See SlicesExtractor for what each job does. Job names carry the `slices.` prefix:
 //   slices.begin -> slices.shape* (anisotropic kernels only) -> slices.count* -> slices.prefix ->
 //   slices.scatter* -> slices.blocks*, then both slices.offsets -> slices.weld* and slices.normals* (a

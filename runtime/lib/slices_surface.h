@@ -1,5 +1,5 @@
 #pragma once
-// Marching slices (seed 004 §3.2) as the frame pipeline's surface: the jobs of slices_jobs.h writing one
+// Marching slices (Janisz §3.2) as the frame pipeline's surface: the jobs of slices_jobs.h writing one
 // welded triangle mesh per slot.
 #include "runtime/lib/surface_system.h"
 #include "systems/slices/slices_extractor.h"

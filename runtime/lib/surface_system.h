@@ -23,7 +23,8 @@ namespace rivulet {
 
 class Renderer;
 
-// kSprites draws a diffuse object's particles (seed 001) and is the only method of diffuse scenes.
+// kSprites draws a diffuse object's particles (Juckel & Beckhaus 2007) and is the only method of
+// diffuse scenes.
 enum class SurfaceMethod { kScan, kSlices, kScreen, kVolume, kSprites };
 // "scan", "slices", "screen", "volume" or "sprites"; throws std::invalid_argument naming them otherwise.
 SurfaceMethod parse_surface_method(const std::string& name);

@@ -1,5 +1,5 @@
 #pragma once
-// Screen-space fluid rendering (van der Laan, Green & Sainz 2009; seed 004 §3.1): particles are drawn as
+// Screen-space fluid rendering (van der Laan, Green & Sainz 2009; Janisz §3.1): particles are drawn as
 // spheres into a linear eye-space depth target; the depth is smoothed (a separable bilateral filter,
 // curvature flow, or the narrow-range filter of Truong & Yuksel 2018) with a screen radius that follows
 // depth; the fluid's thickness is summed at reduced resolution and blurred; and a composite pass shades
@@ -17,7 +17,7 @@
 
 namespace rivulet {
 
-// How the depth is smoothed (seed 004 §3.1.2 and beyond it).
+// How the depth is smoothed (Janisz §3.1.2 and beyond it).
 enum class DepthSmoothing {
     kBilateral,      // separable bilateral approximation (van Vliet & Pham), Gaussian over depth differences
     kCurvatureFlow,  // mean-curvature flow of the depth (van der Laan, Green & Sainz 2009)

@@ -154,7 +154,7 @@ void main() {
 }
 )";
 
-// One direction of the separable bilateral filter (the seed's §3.1.2.1 approximation): the shared
+// One direction of the separable bilateral filter (the approximation of Janisz §3.1.2.1): the shared
 // Gaussian over pixels, times a Gaussian over depth differences so separate sheets do not blend.
 // Background pixels (depth 0) are neither changed nor used, so silhouettes do not bleed into the
 // background.
@@ -215,7 +215,7 @@ void main() {
 }
 )";
 
-// One explicit step of screen-space curvature flow (van der Laan, Green & Sainz 2009, seed 004
+// One explicit step of screen-space curvature flow (van der Laan, Green & Sainz 2009, Janisz
 // §3.1.2.2): the depth moves against the surface's mean curvature H computed from its screen-space
 // derivatives. Where a neighbour is background or lies beyond a depth jump, the surface is taken to
 // continue flat (a zero one-sided difference), so silhouettes stay put. The step is chosen per pixel:
@@ -260,7 +260,7 @@ void main() {
 }
 )";
 
-// One direction of a plain Gaussian over the reduced-resolution thickness (seed 004 §3.1.3).
+// One direction of a plain Gaussian over the reduced-resolution thickness (Janisz §3.1.3).
 const char* const kThicknessBlurFragment = R"(
 uniform sampler2D u_thickness;
 uniform ivec2 u_step;

@@ -1,5 +1,5 @@
 #pragma once
-// GLSL 4.50 sources of the screen-space fluid passes (van der Laan, Green & Sainz 2009; seed 004 §3.1).
+// GLSL 4.50 sources of the screen-space fluid passes (van der Laan, Green & Sainz 2009; Janisz §3.1).
 // A program is the concatenation: vertex stages kVersion + kScreenCamera + stage, fragment stages
 // kFragmentPrelude (version and sky colour) + kScreenCamera + stage; full-screen passes use
 // shaders::kFullScreenVertex (shaders.h).

@@ -139,7 +139,7 @@ void main() {
 }
 )";
 
-// One water for every surface method (seed 004 §3.1.4): a Schlick Fresnel mix of the reflected
+// One water for every surface method (Janisz §3.1.4): a Schlick Fresnel mix of the reflected
 // environment and the transmitted scene behind, which is offset along the normal by the thickness
 // (refraction) and tinted towards the water's colour by Beer-Lambert absorption over it, plus the key
 // light's highlight. The screen-space composite and the lit meshes' water both call shade_water, so

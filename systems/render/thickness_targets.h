@@ -1,5 +1,5 @@
 #pragma once
-// The fluid's thickness along each pixel's ray, for the water's absorption (seed 004 §3.1.3), shared by
+// The fluid's thickness along each pixel's ray, for the water's absorption (Janisz §3.1.3), shared by
 // the mesh methods' water and the screen-space pass. The caller draws its surfaces into two targets: a
 // signed sum of distances (additive blending; shaders::kMeshThicknessFragment, kSphereThicknessFragment)
 // and the span from the farthest exit to the nearest entry (GL_MAX). The resolve

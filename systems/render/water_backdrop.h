@@ -1,5 +1,5 @@
 #pragma once
-// What the lit water of the mesh methods reads besides its own surface (seed 004 §3.1.4, the composite
+// What the lit water of the mesh methods reads besides its own surface (Janisz §3.1.4, the composite
 // the screen-space method uses): the picture drawn before the water, refracted through it, and the
 // thickness of the fluid along each pixel's ray, absorbed over. Owned by the Renderer, in its context.
 #include <span>

@@ -1,6 +1,6 @@
 #pragma once
-// Sphere scan conversion as a system (seed 000 §2): owns the persistent buffers (bins, group lists,
-// circle scratch, angle tables) sized once for a particle capacity, and exposes the per-frame jobs the
+// Sphere scan conversion as a system (Hoetzlein & Höllerer 2009 §2): owns the persistent buffers (bins, group
+// lists, circle scratch, angle tables) sized once for a particle capacity, and exposes the per-frame jobs the
 // frame graph schedules, in this order (* = independent items, run in parallel):
 //
 //   bin_count(chunk)* -> bin_prefix -> bin_scatter(chunk)*       hash sort into V bins (jobs/bin_sort.h)
@@ -56,7 +56,7 @@ class ScanConverter {
     void bin_scatter(ConstPositions p, std::uint32_t chunk);
     std::uint32_t bins_count() const { return grid_.bins; }
     void bin_neighbours(std::uint32_t bin);  // neighbour links and the bin's grouping events
-    void group();                            // the seed's rules over the events (serial)
+    void group();                            // the paper's rules over the events (serial)
     std::uint32_t groups() const { return grouping_.groups; }
     std::uint32_t bin_chunks() const { return (grid_.bins + kBinsPerChunk - 1) / kBinsPerChunk; }
     void spread(std::uint32_t bin_chunk);  // every entry's group, and the chunk's counts per group

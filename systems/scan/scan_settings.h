@@ -6,8 +6,8 @@
 
 namespace rivulet {
 
-// Parameters of sphere scan conversion (seed 000). Defaults follow the seed: U = 20, V = 120,
-// 150 cylinders, eps = 1.75 sphere diameters, circle maxima with 10 smoothing iterations.
+// Parameters of sphere scan conversion (Hoetzlein & Höllerer 2009). Defaults follow the paper: U = 20,
+// V = 120, 150 cylinders, eps = 1.75 sphere diameters, circle maxima with 10 smoothing iterations.
 struct ScanSettings {
     std::uint32_t u = 20;
     std::uint32_t v = 120;

@@ -1,6 +1,6 @@
-// The stream scenes of seed 000 §3: a radial fountain (Figure 12), a faucet and a garden hose, each
-// falling into a height-field pool. Rates are tuned so the live count (rate x flight time) matches the
-// particle counts of the paper's Table 1.
+// The stream scenes of Hoetzlein & Höllerer 2009 §3: a radial fountain (Figure 12), a faucet and a garden
+// hose, each falling into a height-field pool. Rates are tuned so the live count (rate x flight time) matches
+// the particle counts of the paper's Table 1.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -134,9 +134,9 @@ SceneDesc hose() {
     return s;
 }
 
-// An SPH scene (seed 002 §III) around a fluid desc of systems/sim/sph_scenes.h: the desc's own motion
-// becomes the scene's container motion (scripted per-frame inputs, so recordings carry it), the particle
-// radius is half the lattice spacing, and the camera looks at the tank from the front and above.
+// An SPH scene (Inácio et al. 2010 §III) around a fluid desc of systems/sim/sph_scenes.h: the desc's own
+// motion becomes the scene's container motion (scripted per-frame inputs, so recordings carry it), the
+// particle radius is half the lattice spacing, and the camera looks at the tank from the front and above.
 SceneDesc sph_scene(std::string name, SphDesc d) {
     SceneDesc s;
     s.name = std::move(name);

@@ -27,7 +27,7 @@ struct Emitter {
 };
 
 // The resting pool: a height field (2D wave equation) over a rectangle, at `level` when calm. A particle
-// that reaches it pushes the surface down and is absorbed (seed 000 §3).
+// that reaches it pushes the surface down and is absorbed (Hoetzlein & Höllerer 2009 §3).
 struct PoolDesc {
     bool enabled = false;
     float x0 = 0, z0 = 0;          // corner of the rectangle
@@ -53,9 +53,10 @@ struct ContainerMotion {
     float frequency = 0;  // Hz; 0 = still
 };
 
-// Which simulation produces the particles: ballistic streams with a height-field pool (seed 000 §3), SPH
-// fluid in a tank (seed 002 §III), or a diffuse object: particles living in a voxelized mesh (seed 001),
-// drawn as sprites rather than as a fluid surface.
+// Which simulation produces the particles: ballistic streams with a height-field pool
+// (Hoetzlein & Höllerer 2009 §3), SPH fluid in a tank (Inácio et al. 2010 §III), or a diffuse object:
+// particles living in a voxelized mesh (Juckel & Beckhaus 2007), drawn as sprites rather than as a
+// fluid surface.
 enum class SimulationKind { kStreams, kSph, kDiffuse };
 
 struct SceneDesc {

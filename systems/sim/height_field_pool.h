@@ -1,7 +1,7 @@
 #pragma once
-// The resting pool (seed 000 §3): a 2D wave equation on a height field with reflective edges. Falling
-// particles push the surface down where they land; waves carry the dip outward and damping calms it.
-// Explicit symplectic Euler with as many internal substeps per frame as the CFL condition asks for.
+// The resting pool (Hoetzlein & Höllerer 2009 §3): a 2D wave equation on a height field with reflective
+// edges. Falling particles push the surface down where they land; waves carry the dip outward and damping
+// calms it. Explicit symplectic Euler with as many internal substeps per frame as the CFL condition asks for.
 #include <cstddef>
 
 #include "systems/particles/aligned_array.h"

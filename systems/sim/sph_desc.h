@@ -1,5 +1,5 @@
 #pragma once
-// Everything the SPH fluid (Müller, Charypar & Gross 2003; seed 002 §III) needs: resolution, fluid
+// Everything the SPH fluid (Müller, Charypar & Gross 2003; Inácio et al. 2010 §III) needs: resolution, fluid
 // constants, equation of state, the tank and its motion, colliders, the initial fluid and time stepping.
 // Units are SI (m, kg, s). docs/sph.md explains each parameter.
 #include <cstddef>

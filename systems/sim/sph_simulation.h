@@ -1,7 +1,7 @@
 #pragma once
-// SPH fluid (Müller, Charypar & Gross 2003; seed 002 §III) as explicit phases the frame graph schedules,
-// with two pressure solvers (SphDesc::solver): DFSPH (Bender & Koschier 2015/2017), incompressible at
-// large time steps, and WCSPH (Tait), weakly compressible.
+// SPH fluid (Müller, Charypar & Gross 2003; Inácio et al. 2010 §III) as explicit phases the frame graph
+// schedules, with two pressure solvers (SphDesc::solver): DFSPH (Bender & Koschier 2015/2017), incompressible
+// at large time steps, and WCSPH (Tait), weakly compressible.
 //
 // One frame:
 //   begin_frame(ps, frame);                                     // serial

@@ -1,7 +1,7 @@
 #pragma once
-// Ballistic stream simulation with a height-field pool (seed 000 §3): emitters, gravity, collisions
-// against the ground, sphere and box colliders; particles that reach the pool push its surface and are
-// absorbed. Deterministic at any thread count: emission draws counter-based random numbers keyed by
+// Ballistic stream simulation with a height-field pool (Hoetzlein & Höllerer 2009 §3): emitters, gravity,
+// collisions against the ground, sphere and box colliders; particles that reach the pool push its surface and
+// are absorbed. Deterministic at any thread count: emission draws counter-based random numbers keyed by
 // (seed, frame, particle id); integrate() touches only its own particle range; pool impulses are applied
 // in particle order in end_frame().
 //

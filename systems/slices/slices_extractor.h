@@ -1,5 +1,5 @@
 #pragma once
-// Marching slices as a system (seed 004 §3.2): owns the per-block buffers (block lists, lookup caches,
+// Marching slices as a system (Janisz §3.2): owns the per-block buffers (block lists, lookup caches,
 // sweep scratch, per-block meshes), grown rarely, and exposes the per-frame jobs the frame graph runs:
 //
 //   begin_frame                      bounds, block grid; anisotropic: the neighbour hash    (serial)

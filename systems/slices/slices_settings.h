@@ -1,5 +1,5 @@
 #pragma once
-// Parameters of marching slices (seed 004 §3.2) and how the particle radius maps onto the field
+// Parameters of marching slices (Janisz §3.2) and how the particle radius maps onto the field
 // F = sum of f(|s - p|) over particles within R_c, fluid where F >= iso (jobs/slice_field.h).
 //
 // The spacing field (default): R_c and iso follow the data's particle spacing d (`spacing`, or measured

@@ -20,7 +20,7 @@ struct VolumeSettings {
     float radius = 0.02f;                 // particle radius, world units
     float kernel_radii = 4.0f;            // h / radius
     float voxel = 0;                      // world units; <= 0: automatic (see above)
-    std::uint32_t max_dim = 128;          // cells per axis at most (the seed's 128^3 on a CPU)
+    std::uint32_t max_dim = 128;          // cells per axis at most (the paper's 128^3 on a CPU)
     float iso = 0;                        // threshold on F; <= 0: calibrated_volume_iso(kernel_radii)
     std::uint32_t max_bricks = 1u << 18;  // stored bricks a frame may have (the atlas's capacity)
 
