@@ -84,15 +84,16 @@ Row measure(const rivulet::ParticleSet& set, int threads, int warmup, int runs) 
     std::vector<Column> column(graph.job_count());
     for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j) {
         const std::string& n = graph.job_name(j);
-        if (n.starts_with("bin_sort."))
+        if (n.starts_with("scan.bin_"))
             column[j] = kBins;
-        else if (n.starts_with("grouping"))
+        else if (n == "scan.neighbours" || n == "scan.group" || n == "scan.spread" ||
+                 n == "scan.list_offsets" || n == "scan.lists")
             column[j] = kGrouping;
-        else if (n == "deform")
+        else if (n == "scan.deform")
             column[j] = kDeform;
-        else if (n == "normals")
+        else if (n == "scan.normals")
             column[j] = kNormals;
-        else if (n == "isolated" || n == "stage")
+        else if (n == "scan.isolated" || n == "scan.stage")
             column[j] = kIsoStage;
         else
             throw std::logic_error("bench_scan_table: no column for scan job '" + n + "'");

@@ -17,7 +17,7 @@ BenchCase make_case(const char* scene, int threads, double frame_ms) {
     c.run["frame_ms"] = frame_ms;
     c.run["extract_ms"] = frame_ms / 2;
     c.run["render_ms"] = frame_ms / 2;
-    c.run["stages"] = {{"deform", 1.0}, {"normals", 0.5}};
+    c.run["stages"] = {{"scan.deform", 1.0}, {"scan.normals", 0.5}};
     return c;
 }
 
@@ -61,7 +61,7 @@ TEST(BenchReport, BenchCommandWritesJsonTableAndPlots) {
     EXPECT_EQ(j["cases"][1]["threads"], 2);
     EXPECT_EQ(j["cases"][0]["frames"], 2);  // timed frames only
     EXPECT_GT(j["cases"][1]["frames_per_second"].get<double>(), 0.0);
-    EXPECT_TRUE(j["cases"][1]["stages"].contains("grouping"));
+    EXPECT_TRUE(j["cases"][1]["stages"].contains("scan.group"));
     EXPECT_TRUE(std::filesystem::exists(out + "/bench.md"));
     EXPECT_TRUE(is_png(out + "/scaling.png"));
     EXPECT_TRUE(is_png(out + "/stages.png"));

@@ -12,6 +12,7 @@
 #include "runtime/lib/thread_control.h"
 #include "runtime/lib/trace_recorder.h"
 #include "runtime/lib/trace_summary.h"
+#include "systems/io/output_file.h"
 #include "systems/render/video_writer.h"
 #include "systems/scenes/input_track.h"
 
@@ -27,6 +28,7 @@ struct RunOptions {
     std::string size = "1280x720";
     std::string json;
     std::string trace;
+    std::string graph;  // the frame graph as Graphviz DOT
     std::string record;
     std::string inputs;  // an input track (systems/scenes/input_track.h); empty: the scene's script
     int timing_warmup = 0;
@@ -111,6 +113,7 @@ int run(const RunOptions& o) {
         config.trace = trace.get();
     }
     FramePipeline pipeline(scene, config);
+    if (!o.graph.empty()) io::write_text_file(o.graph, pipeline.graph().dot());
     if (Renderer* r = pipeline.renderer())
         fmt::print(stderr, "rivulet: scene '{}', {} threads, {} ({})\n", scene.name, threads.threads(),
                    r->gl_version(), r->gl_renderer());
@@ -230,6 +233,9 @@ void add_run_command(CLI::App& app, int& status) {
     cmd->add_option("--json", opts->json, "Write the timing summary as JSON");
     cmd->add_option("--trace", opts->trace,
                     "Write every job's zones as Chrome Trace Event JSON (Perfetto, chrome://tracing)");
+    cmd->add_option("--graph", opts->graph,
+                    "Write the frame graph (every job, its dependencies, the nested jobs) as Graphviz DOT, "
+                    "e.g. for `dot -Tsvg`");
     cmd->add_option("--record", opts->record,
                     "Write a recording (scene, settings, per-frame inputs and hashes) for rivulet replay");
     cmd->add_option("--inputs", opts->inputs,

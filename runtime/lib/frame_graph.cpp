@@ -43,6 +43,23 @@ FrameGraph::JobId FrameGraph::nested(std::string name, JobId parent) {
     return static_cast<JobId>(jobs_.size() - 1);
 }
 
+std::string FrameGraph::dot() const {
+    std::string out = "digraph frame {\n  rankdir=TB;\n  node [shape=box, fontname=\"monospace\"];\n";
+    const auto node = [](JobId j) { return "j" + std::to_string(j); };
+    for (JobId j = 0; j < jobs_.size(); ++j) {
+        const Job& job = jobs_[j];
+        out += "  " + node(j) + " [label=\"" + job.name +
+               (job_parallel(j) ? "*\", style=\"filled\", " : "\", ") +
+               (job_parallel(j) ? "shape=box3d" : "shape=box") + "];\n";
+    }
+    for (JobId j = 0; j < jobs_.size(); ++j) {
+        for (const JobId a : jobs_[j].after) out += "  " + node(a) + " -> " + node(j) + ";\n";
+        if (jobs_[j].parent >= 0)
+            out += "  " + node(static_cast<JobId>(jobs_[j].parent)) + " -> " + node(j) + " [style=dashed];\n";
+    }
+    return out + "}\n";
+}
+
 void FrameGraph::run_nested_items(JobId j, std::size_t n, ItemRef item) {
     using us = std::chrono::duration<double, std::micro>;
     Job& job = jobs_[j];

@@ -63,6 +63,12 @@ class FrameGraph {
     void set_frame(std::uint32_t frame) { frame_ = frame; }
 
     std::size_t job_count() const { return jobs_.size(); }
+    // Items run in parallel: a parallel job, or a nested one (run_nested always runs items).
+    bool job_parallel(JobId j) const { return !jobs_[j].serial; }
+    // The graph in Graphviz DOT (`rivulet run --graph FILE.dot`): a box per job, parallel ones marked
+    // "name*" on a stacked box, an arrow per dependency, and a dashed arrow from a serial job to each
+    // nested job its body runs.
+    std::string dot() const;
     const std::string& job_name(JobId j) const { return jobs_[j].name; }
     const std::vector<JobId>& job_after(JobId j) const { return jobs_[j].after; }
     // The job whose body runs nested job `j`; -1 for jobs of the graph itself.

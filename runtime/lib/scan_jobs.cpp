@@ -10,34 +10,34 @@ ScanJobIds add_scan_jobs(FrameGraph& g, ScanConverter& scan, std::function<Const
     auto pos = std::move(positions);
     auto out = std::move(output);
     const auto begin = g.serial(
-        "bin_sort.begin", [&s, pos] { s.begin_frame(pos()); }, after);
+        "scan.begin", [&s, pos] { s.begin_frame(pos()); }, after);
     id.bin_count = g.parallel(
-        "bin_sort.count", [&s] { return std::size_t(s.chunks()); },
+        "scan.bin_count", [&s] { return std::size_t(s.chunks()); },
         [&s, pos](std::size_t c) { s.bin_count(pos(), static_cast<std::uint32_t>(c)); }, {begin});
-    id.bin_prefix = g.serial("bin_sort.prefix", [&s] { s.bin_prefix(); }, {id.bin_count});
+    id.bin_prefix = g.serial("scan.bin_prefix", [&s] { s.bin_prefix(); }, {id.bin_count});
     id.bin_scatter = g.parallel(
-        "bin_sort.scatter", [&s] { return std::size_t(s.chunks()); },
+        "scan.bin_scatter", [&s] { return std::size_t(s.chunks()); },
         [&s, pos](std::size_t c) { s.bin_scatter(pos(), static_cast<std::uint32_t>(c)); }, {id.bin_prefix});
     id.bin_neighbours = g.parallel(
-        "grouping.neighbours", [&s] { return std::size_t(s.bins_count()); },
+        "scan.neighbours", [&s] { return std::size_t(s.bins_count()); },
         [&s](std::size_t b) { s.bin_neighbours(static_cast<std::uint32_t>(b)); }, {id.bin_scatter});
-    id.grouping = g.serial("grouping", [&s] { s.group(); }, {id.bin_neighbours});
+    id.grouping = g.serial("scan.group", [&s] { s.group(); }, {id.bin_neighbours});
     const auto spread = g.parallel(
-        "grouping.spread", [&s] { return std::size_t(s.bin_chunks()); },
+        "scan.spread", [&s] { return std::size_t(s.bin_chunks()); },
         [&s](std::size_t c) { s.spread(static_cast<std::uint32_t>(c)); }, {id.grouping});
-    const auto offsets = g.serial("grouping.offsets", [&s] { s.list_offsets(); }, {spread});
+    const auto offsets = g.serial("scan.list_offsets", [&s] { s.list_offsets(); }, {spread});
     id.group_lists = g.parallel(
-        "grouping.lists", [&s] { return std::size_t(s.bin_chunks()); },
+        "scan.lists", [&s] { return std::size_t(s.bin_chunks()); },
         [&s](std::size_t c) { s.lists(static_cast<std::uint32_t>(c)); }, {offsets});
     id.deform = g.parallel(
-        "deform", [&s] { return std::size_t(s.pieces()); },
+        "scan.deform", [&s] { return std::size_t(s.pieces()); },
         [&s, pos, out](std::size_t i) { s.deform(pos(), static_cast<std::uint32_t>(i), out()); },
         {id.group_lists});
     id.normals = g.parallel(
-        "normals", [&s] { return std::size_t(s.pieces()); },
+        "scan.normals", [&s] { return std::size_t(s.pieces()); },
         [&s, out](std::size_t i) { s.normals(static_cast<std::uint32_t>(i), out()); }, {id.deform});
-    id.isolated = g.serial("isolated", [&s, pos, out] { s.isolated(pos(), out()); }, {id.group_lists});
-    id.stage = g.serial("stage", [&s, out] { s.stage(out()); }, {id.normals, id.isolated});
+    id.isolated = g.serial("scan.isolated", [&s, pos, out] { s.isolated(pos(), out()); }, {id.group_lists});
+    id.stage = g.serial("scan.stage", [&s, out] { s.stage(out()); }, {id.normals, id.isolated});
     return id;
 }
 

@@ -11,7 +11,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!track) return 0;
     if (track->keys.empty()) rivulet::fuzz::finding("an accepted track holds no keys");
     for (std::size_t k = 1; k < track->keys.size(); ++k)
-        if (track->keys[k].frame <= track->keys[k - 1].frame) rivulet::fuzz::finding("frames do not increase");
+        if (track->keys[k].frame <= track->keys[k - 1].frame)
+            rivulet::fuzz::finding("frames do not increase");
     for (const rivulet::InputKey& key : track->keys) {
         for (const std::uint64_t f : {key.frame, key.frame + 1, key.frame / 2}) {
             const rivulet::FrameInputs in = track->at(f);
