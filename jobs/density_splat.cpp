@@ -33,15 +33,15 @@ ParticleBounds merge_bounds(const ParticleBounds& a, const ParticleBounds& b) {
     return m;
 }
 
-DensityGrid plan_density_grid(const ParticleBounds& bounds, const DensityGridRequest& request) {
+DensityGrid plan_density_grid(const ParticleBounds& bounds, const DensityGridParams& params) {
     if (!bounds.finite)
         throw std::invalid_argument("density volume: some particle positions are NaN or infinite");
-    if (!(request.h > 0) || !std::isfinite(request.h))
+    if (!(params.h > 0) || !std::isfinite(params.h))
         throw std::invalid_argument("density volume: the kernel radius must be positive and finite");
-    if (request.max_dim < 2 * kBrickCells || request.max_dim % kBrickCells != 0)
+    if (params.max_dim < 2 * kBrickCells || params.max_dim % kBrickCells != 0)
         throw std::invalid_argument("--max-dim must be a multiple of 8 and at least 16, got " +
-                                    std::to_string(request.max_dim));
-    const double h = request.h;
+                                    std::to_string(params.max_dim));
+    const double h = params.h;
     double lo[3], extent[3], longest = 0;
     for (int a = 0; a < 3; ++a) {
         lo[a] = double(bounds.lo[a]) - h;
@@ -49,15 +49,15 @@ DensityGrid plan_density_grid(const ParticleBounds& bounds, const DensityGridReq
         longest = std::max(longest, extent[a]);
     }
     // One cell of slack for snapping the origin to whole voxels.
-    const double max_cells = double(request.max_dim) - 1.0;
-    double voxel = request.voxel;
+    const double max_cells = double(params.max_dim) - 1.0;
+    double voxel = params.voxel;
     if (voxel > 0) {
         static const char* const kAxis[3] = {"x", "y", "z"};
         for (int a = 0; a < 3; ++a)
             if (const double cells = std::ceil(extent[a] / voxel); !(cells <= max_cells))
                 throw std::invalid_argument("--voxel " + std::to_string(voxel) + " would make " +
                                             std::to_string(cells + 1.0) + " cells along " + kAxis[a] +
-                                            ", more than --max-dim " + std::to_string(request.max_dim));
+                                            ", more than --max-dim " + std::to_string(params.max_dim));
     } else {
         voxel = std::max(h / 4.0, longest / (max_cells - 1.0));
     }
@@ -65,8 +65,8 @@ DensityGrid plan_density_grid(const ParticleBounds& bounds, const DensityGridReq
         throw std::invalid_argument("density volume: the particles' extent is too large for a grid");
     DensityGrid g;
     g.voxel = static_cast<float>(voxel);
-    g.h = request.h;
-    g.volume = request.volume;
+    g.h = params.h;
+    g.volume = params.volume;
     std::uint32_t bricks[3];
     float origin[3];
     for (int a = 0; a < 3; ++a) {
@@ -74,7 +74,7 @@ DensityGrid plan_density_grid(const ParticleBounds& bounds, const DensityGridReq
         origin[a] = static_cast<float>(o);
         const double cells = std::ceil((lo[a] + extent[a] - double(origin[a])) / double(g.voxel)) + 1.0;
         const double b = std::max(1.0, std::ceil(cells / kBrickCells));
-        bricks[a] = static_cast<std::uint32_t>(std::min<double>(b, request.max_dim / kBrickCells));
+        bricks[a] = static_cast<std::uint32_t>(std::min<double>(b, params.max_dim / kBrickCells));
     }
     g.ox = origin[0], g.oy = origin[1], g.oz = origin[2];
     g.bx = bricks[0], g.by = bricks[1], g.bz = bricks[2];

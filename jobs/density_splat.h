@@ -26,7 +26,7 @@ ParticleBounds particle_bounds(ConstPositions p);
 // The union of two chunks' bounds.
 ParticleBounds merge_bounds(const ParticleBounds& a, const ParticleBounds& b);
 
-struct DensityGridRequest {
+struct DensityGridParams {
     float h = 1;       // kernel support radius, world units
     float volume = 1;  // V_j
     float voxel = 0;   // world units; 0: h / 4, grown where the bounds need more than max_dim cells
@@ -36,7 +36,7 @@ struct DensityGridRequest {
 // The lattice covering `bounds` plus h on every side, its origin a whole number of voxels so a fixed voxel
 // gives the same sample points in every frame. Throws std::invalid_argument when an explicit voxel would
 // need more than max_dim cells on some axis (naming both) or when the bounds are not finite.
-DensityGrid plan_density_grid(const ParticleBounds& bounds, const DensityGridRequest& request);
+DensityGrid plan_density_grid(const ParticleBounds& bounds, const DensityGridParams& params);
 
 // The brick whose cells hold (x, y, z), clamped into the grid.
 std::uint32_t density_brick_of(const DensityGrid& grid, float x, float y, float z);

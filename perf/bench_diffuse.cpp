@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
                "sort", "stage", "cpu_total", "render");
     for (const std::string& c : bench::split_list(counts)) {
         const SceneDesc scene = sized(resolve_scene(scene_name), static_cast<std::uint32_t>(std::stoul(c)));
-        PipelineConfig config;
+        PipelineSettings config;
         config.method = SurfaceMethod::kSprites;
         config.render = !no_render;
         config.pipelined = false;  // the CPU side alone on the machine, then the render alone

@@ -32,7 +32,7 @@ struct Row {
 };
 
 Row measure(const SceneDesc& scene, SurfaceMethod method, int width, int height, int frames) {
-    PipelineConfig config;
+    PipelineSettings config;
     config.method = method;
     config.pipelined = false;  // the render thread's parts alone on the machine
     config.size = {width, height};

@@ -46,7 +46,7 @@ struct Row {
 // `frames` frames timed pass by pass, then `frames` as users see them.
 std::vector<Row> measure(const SceneDesc& scene, const std::vector<DepthSmoothing>& filters, int width,
                          int height, int frames, int max_taps) {
-    PipelineConfig config;
+    PipelineSettings config;
     config.method = SurfaceMethod::kScreen;
     config.pipelined = false;  // the passes alone on the machine: extraction does not compete
     config.size = {width, height};

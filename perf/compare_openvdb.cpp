@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
         for (const FieldChoice& field : field_list) {
             for (int t : parse_ints(threads)) {
                 ThreadControl control(t);
-                MeshRequest req;
+                MeshSettings req;
                 req.method = "slices";
                 req.radius = radius;
                 req.repeat = kOurRuns;

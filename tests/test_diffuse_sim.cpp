@@ -256,7 +256,7 @@ std::vector<FrameRecord> run_ghost(int threads, int frames, Recording* recording
     s.warmup_frames = 5;
     s.diffuse.resolution = 24;
     s.diffuse.colliders[0].period = 0.5f;  // through the body within the test's frames
-    PipelineConfig config;
+    PipelineSettings config;
     config.method = SurfaceMethod::kSprites;
     config.render = false;
     config.hash_frames = true;
@@ -296,7 +296,7 @@ TEST(DiffusePipeline, SpritesAreStagedBackToFront) {
     s.max_particles = 8000;
     s.warmup_frames = 20;
     s.diffuse.resolution = 20;
-    PipelineConfig config;
+    PipelineSettings config;
     config.method = SurfaceMethod::kSprites;
     config.render = false;
     FramePipeline p(s, config);

@@ -15,7 +15,7 @@ namespace {
 std::vector<std::uint64_t> frame_hashes(int threads, int frames, SurfaceMethod method = SurfaceMethod::kScan,
                                         const char* scene_name = "fountain") {
     ThreadControl control(threads);
-    PipelineConfig config;
+    PipelineSettings config;
     config.render = false;
     config.hash_frames = true;
     config.method = method;
@@ -75,7 +75,7 @@ TEST(FramePipeline, MarchingSlicesInTheFrameLoopGiveTheSameBytesAtOneAndTwoThrea
 
 TEST(FramePipeline, MarchingSlicesFrameShowsWaterWhereTheStreamIs) {
     ThreadControl control(2);
-    PipelineConfig config;
+    PipelineSettings config;
     config.size = {320, 180};
     config.method = SurfaceMethod::kSlices;
     FramePipeline pipeline(make_builtin_scene("faucet"), config);
@@ -100,7 +100,7 @@ TEST(FramePipeline, DensityVolumeInTheFrameLoopGivesTheSameBytesAtOneAndTwoThrea
 
 TEST(FramePipeline, DensityVolumeFrameShowsWaterWhereTheStreamIs) {
     ThreadControl control(2);
-    PipelineConfig config;
+    PipelineSettings config;
     config.size = {320, 180};
     config.method = SurfaceMethod::kVolume;
     FramePipeline pipeline(make_builtin_scene("faucet"), config);
@@ -115,7 +115,7 @@ TEST(FramePipeline, DensityVolumeFrameShowsWaterWhereTheStreamIs) {
 
 TEST(FramePipeline, DefaultSceneFrameShowsWaterWhereTheStreamIs) {
     ThreadControl control(2);
-    PipelineConfig config;
+    PipelineSettings config;
     config.size = {320, 180};
     const SceneDesc scene = make_builtin_scene("fountain");
     FramePipeline pipeline(scene, config);

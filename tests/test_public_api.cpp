@@ -55,7 +55,7 @@ const char* method_name(Method m) {
 }
 
 std::uint64_t cli_hash(const std::vector<float>& xyz, Method m) {
-    rivulet::MeshRequest req;
+    rivulet::MeshSettings req;
     req.method = method_name(m);
     return rivulet::extract_mesh(cloud_of(xyz), req).hash;
 }

@@ -21,7 +21,7 @@ namespace {
 std::map<std::string, bool> pipeline_jobs() {
     std::map<std::string, bool> jobs;
     const auto add = [&jobs](SceneDesc scene, SurfaceMethod method, float anisotropy = 0.0f) {
-        PipelineConfig config;
+        PipelineSettings config;
         config.method = method;
         config.slices.anisotropy = anisotropy;
         config.render = false;

@@ -19,7 +19,7 @@ namespace {
 std::vector<FrameRecord> run_hashed(const SceneDesc& scene, int frames, int threads,
                                     const std::vector<FrameInputs>* inputs, std::vector<FrameInputs>* log) {
     ThreadControl control(threads);
-    PipelineConfig config;
+    PipelineSettings config;
     config.render = false;
     config.hash_frames = true;
     if (inputs) {

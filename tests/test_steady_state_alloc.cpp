@@ -11,7 +11,7 @@ using namespace rivulet;
 
 TEST(SteadyState, FrameLoopAllocatesNothing) {
     ThreadControl control(2);
-    PipelineConfig config;
+    PipelineSettings config;
     config.size = {320, 180};
     config.hash_frames = true;
     SceneDesc scene = make_builtin_scene("fountain");
@@ -31,7 +31,7 @@ TEST(SteadyState, FrameLoopAllocatesNothing) {
 // with a collider crossing the object and particles dying and being born every frame.
 TEST(SteadyState, DiffuseFrameLoopAllocatesNothing) {
     ThreadControl control(2);
-    PipelineConfig config;
+    PipelineSettings config;
     config.method = SurfaceMethod::kSprites;
     config.size = {320, 180};
     config.hash_frames = true;

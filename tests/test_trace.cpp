@@ -20,7 +20,7 @@ TEST(Trace, RunWritesZonesThreadsFramesAndHandOverFlows) {
     constexpr int kFrames = 4;
     ThreadControl control(2);
     TraceRecorder recorder(2);
-    PipelineConfig config;
+    PipelineSettings config;
     config.size = {160, 90};
     config.trace = &recorder;
     SceneDesc scene = make_builtin_scene("fountain");
@@ -92,7 +92,7 @@ TEST(Trace, RenderPassesAreZonesInsideTheirRender) {
     for (SurfaceMethod method : {SurfaceMethod::kSlices, SurfaceMethod::kScreen}) {
         ThreadControl control(2);
         TraceRecorder recorder(2);
-        PipelineConfig config;
+        PipelineSettings config;
         config.size = {160, 90};
         config.method = method;
         config.trace = &recorder;

@@ -223,7 +223,7 @@ TEST(VdbWriter, LevelSetIsTheSignedDistanceToTheIsoSurface) {
     ASSERT_GT(hand.stored(), 0u);
     ASSERT_LT(hand.stored(), g.bricks());
     const std::string path = test::temp_path("ball.vdb");
-    VdbWriteOptions options;
+    VdbWriteSettings options;
     options.level_set = true;
     write_vdb(path, hand.view(), options);
 
@@ -288,7 +288,7 @@ TEST(VdbWriter, EmptyVolumeWritesEmptyGrids) {
         g, 0.5f, [](std::uint32_t, std::uint32_t, std::uint32_t) { return false; },
         [](float, float, float) { return 0.0f; });
     const std::string path = test::temp_path("empty.vdb");
-    VdbWriteOptions options;
+    VdbWriteSettings options;
     options.level_set = true;
     options.half_width = 2.5f;
     write_vdb(path, hand.view(), options);
@@ -305,7 +305,7 @@ TEST(VdbWriter, EmptyVolumeWritesEmptyGrids) {
 
 // The message must start with the path, as every file error in the project does.
 void expect_write_error(const std::string& path, const DensityVolumeView& view,
-                        const VdbWriteOptions& options = {}) {
+                        const VdbWriteSettings& options = {}) {
     try {
         write_vdb(path, view, options);
         ADD_FAILURE() << "no error writing " << path;
@@ -349,7 +349,7 @@ TEST(VdbWriter, MalformedVolumeThrowsBeforeWriting) {
     disagree.slot_max = disagree.slot_max.first(2);
     expect_write_error(path, disagree);
 
-    VdbWriteOptions thin;
+    VdbWriteSettings thin;
     thin.level_set = true;
     thin.half_width = 0.5f;
     expect_write_error(path, hand.view(), thin);

@@ -339,7 +339,7 @@ TEST_F(Video, TheFrameLoopEncodesEveryRenderedFrameInOrderWithoutAllocating) {
     long during = -1;
     {
         ThreadControl control(2);
-        PipelineConfig config;
+        PipelineSettings config;
         config.size = {w, h};
         config.out_dir = "";
         config.video_path = path;

@@ -257,7 +257,7 @@ TEST(MeshWater, AnIsolatedSphereIsAsThickAsItsChord) {
 // drew it, and its shadow on the ground is not.
 std::vector<bool> water_coverage(SurfaceMethod method, std::size_t& count) {
     ThreadControl control(2);
-    PipelineConfig config;
+    PipelineSettings config;
     config.size = {320, 180};
     config.method = method;
     SceneDesc scene = make_builtin_scene("fountain");
@@ -309,7 +309,7 @@ TEST(WaterComposite, PicturesAreTheSameBytesAtOneAndTwoThreads) {
         std::vector<std::vector<std::uint8_t>> pictures;
         for (int threads : {1, 2}) {
             ThreadControl control(threads);
-            PipelineConfig config;
+            PipelineSettings config;
             config.method = method;
             config.size = {160, 90};
             SceneDesc scene = make_builtin_scene("fountain");

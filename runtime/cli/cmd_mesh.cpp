@@ -75,7 +75,7 @@ int run(const MeshOptions& o) {
         throw std::invalid_argument(fmt::format("--repeat must be in [1, 100000], got {}", o.repeat));
     if (o.radius < 0 || !std::isfinite(o.radius))
         throw std::invalid_argument(fmt::format("--radius must be positive, got {}", o.radius));
-    MeshRequest req;
+    MeshSettings req;
     req.method = o.method;
     req.scan = o.scan.resolve();
     o.slices.apply(req.slices);

@@ -19,7 +19,7 @@ struct ReplayOptions {
 int replay(const ReplayOptions& o) {
     const Recording rec = read_recording(o.file);
     ThreadControl threads(o.threads);
-    PipelineConfig config;
+    PipelineSettings config;
     config.method = rec.method;
     config.scan = rec.scan;
     config.slices = rec.slices;

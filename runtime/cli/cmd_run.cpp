@@ -70,7 +70,7 @@ int run(const RunOptions& o) {
     const std::string method = default_method(o.method, scene);
 
     ThreadControl threads(o.threads);
-    PipelineConfig config;
+    PipelineSettings config;
     config.method = parse_surface_method(method);
     config.scan = o.scan.resolve();
     o.slices.apply(config.slices);

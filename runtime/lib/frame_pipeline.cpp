@@ -88,12 +88,12 @@ struct FramePipeline::VideoRing {
     ~VideoRing() { graph.wait_for_all(); }  // before the node and the buffers go
 };
 
-FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineConfig& config)
+FramePipeline::FramePipeline(const SceneDesc& scene, const PipelineSettings& config)
     : scene_(scene), config_(config) {
     // First of all, so that a bad path or size fails before anything slow is built.
     if (!config_.video_path.empty()) {
         if (!config_.render)
-            throw std::invalid_argument("a video needs rendering: PipelineConfig::render is off");
+            throw std::invalid_argument("a video needs rendering: PipelineSettings::render is off");
         open_video();
     }
     sim_ = std::make_unique<SceneSimulation>(scene_, config_.inputs);

@@ -21,7 +21,7 @@
 
 namespace rivulet {
 
-struct PipelineConfig {
+struct PipelineSettings {
     SurfaceMethod method = SurfaceMethod::kScan;
     ScanSettings scan;      // v_top / v_bottom / radius are taken from the scene
     SlicesSettings slices;  // radius is taken from the scene
@@ -67,7 +67,7 @@ class FramePipeline {
     // Builds simulation, surface method, slots, frame graph and (if config.render) the renderer on the
     // calling thread, which becomes the render thread. Throws on invalid settings or GL failure, and
     // when the video cannot be created (checked first, so a bad path fails at once).
-    FramePipeline(const SceneDesc& scene, const PipelineConfig& config);
+    FramePipeline(const SceneDesc& scene, const PipelineSettings& config);
     ~FramePipeline();
 
     // Simulates the scene's warm-up frames (no extraction) so frame 0 shows the steady state.
@@ -86,7 +86,7 @@ class FramePipeline {
     const std::vector<FrameRecord>& records() const { return records_; }
     const FrameGraph& graph() const { return graph_; }
     const SurfaceSystem& surface() const { return *surface_; }
-    const PipelineConfig& config() const { return config_; }
+    const PipelineSettings& config() const { return config_; }
     const ParticleSet& particles() const { return sim_->particles(); }
     const FrameSlot& slot(int i) const { return slots_[i]; }
     Renderer* renderer() { return renderer_.get(); }
@@ -102,7 +102,7 @@ class FramePipeline {
     void trace_render_parts(std::uint32_t frame, std::int64_t begin_ns);
 
     SceneDesc scene_;
-    PipelineConfig config_;
+    PipelineSettings config_;
     std::unique_ptr<SceneSimulation> sim_;
     std::unique_ptr<SurfaceSystem> surface_;
     std::array<FrameSlot, kFrameSlots> slots_;

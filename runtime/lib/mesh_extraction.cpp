@@ -34,7 +34,7 @@ void time_graph(FrameGraph& graph, int repeat, MeshResult& result) {
         result.stage_ms.emplace_back(graph.job_name(j), median(stages[j]));
 }
 
-void extract_slices(const ParticleSet& particles, const MeshRequest& req, MeshResult& result) {
+void extract_slices(const ParticleSet& particles, const MeshSettings& req, MeshResult& result) {
     SlicesSettings s = req.slices;
     s.radius = result.radius;
     SlicesExtractor slices(s, particles.size());
@@ -59,7 +59,7 @@ void extract_slices(const ParticleSet& particles, const MeshRequest& req, MeshRe
 
 // The density volume built by the frame's jobs, then (unless only the volume is wanted) meshed by
 // marching cubes on its grid, timed as one more stage.
-void extract_volume(const ParticleSet& particles, const MeshRequest& req, MeshResult& result) {
+void extract_volume(const ParticleSet& particles, const MeshSettings& req, MeshResult& result) {
     VolumeSettings s = req.volume;
     s.radius = result.radius;
     VolumeBuilder builder(s, particles.size());
@@ -91,7 +91,7 @@ void extract_volume(const ParticleSet& particles, const MeshRequest& req, MeshRe
 
 }  // namespace
 
-MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& req) {
+MeshResult extract_mesh(const ParticleCloud& cloud, const MeshSettings& req) {
     const std::size_t n = cloud.x.size();
     if (n == 0) throw std::invalid_argument("no particles to mesh");
     ParticleSet particles(n);

@@ -15,7 +15,7 @@
 
 namespace rivulet {
 
-struct MeshRequest {
+struct MeshSettings {
     std::string method = "scan";  // "scan", "slices" or "volume"
     ScanSettings scan;            // v_top / v_bottom come from the particles' extent
     SlicesSettings slices;        // radius comes from `radius` below
@@ -42,6 +42,6 @@ struct MeshResult {
     std::unique_ptr<DensityVolume> volume;  // volume: the grid the mesh came from
 };
 
-MeshResult extract_mesh(const ParticleCloud& cloud, const MeshRequest& request);
+MeshResult extract_mesh(const ParticleCloud& cloud, const MeshSettings& request);
 
 }  // namespace rivulet

@@ -37,8 +37,9 @@ const char* surface_method_name(SurfaceMethod m) {
     return "?";
 }
 
-std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, const SceneDesc& scene,
-                                                   std::size_t threads, const SceneSimulation* sim) {
+std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceMethodSettings& config,
+                                                   const SceneDesc& scene, std::size_t threads,
+                                                   const SceneSimulation* sim) {
     const bool diffuse = scene.simulation == SimulationKind::kDiffuse;
     if (diffuse != (config.method == SurfaceMethod::kSprites))
         throw std::invalid_argument(

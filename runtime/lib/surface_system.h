@@ -58,7 +58,7 @@ class SurfaceSystem {
     virtual void fill_view(int slot, FrameView& view) const = 0;
 };
 
-struct SurfaceConfig {
+struct SurfaceMethodSettings {
     SurfaceMethod method = SurfaceMethod::kScan;
     ScanSettings scan;      // radius and V range are taken from the scene
     SlicesSettings slices;  // radius is taken from the scene
@@ -72,7 +72,8 @@ class SceneSimulation;
 // Sized for the scene's max_particles and `threads` workers; throws std::invalid_argument on bad settings,
 // and when the method does not fit the scene: a diffuse scene is drawn with sprites, and sprites draw
 // only a diffuse scene (`sim` then names its simulation, which the sprites read each frame).
-std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceConfig& config, const SceneDesc& scene,
-                                                   std::size_t threads, const SceneSimulation* sim = nullptr);
+std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceMethodSettings& config,
+                                                   const SceneDesc& scene, std::size_t threads,
+                                                   const SceneSimulation* sim = nullptr);
 
 }  // namespace rivulet

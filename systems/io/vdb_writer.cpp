@@ -37,7 +37,7 @@ BrickPos brick_pos(const DensityGrid& g, std::uint32_t brick) {
 }
 
 // Checked before the file is opened, so a malformed view never leaves a file behind.
-void validate(const std::string& path, const DensityVolumeView& v, const VdbWriteOptions& options) {
+void validate(const std::string& path, const DensityVolumeView& v, const VdbWriteSettings& options) {
     const DensityGrid& g = v.grid;
     if (!(g.voxel > 0.0f) || !std::isfinite(g.voxel)) fail(path, "voxel size is not positive and finite");
     if (!std::isfinite(g.ox) || !std::isfinite(g.oy) || !std::isfinite(g.oz)) {
@@ -175,7 +175,7 @@ void save(const std::string& path, const openvdb::GridCPtrVec& grids, const open
 
 }  // namespace
 
-void write_vdb(const std::string& path, const DensityVolumeView& volume, const VdbWriteOptions& options) {
+void write_vdb(const std::string& path, const DensityVolumeView& volume, const VdbWriteSettings& options) {
     static std::once_flag initialized;
     std::call_once(initialized, [] { openvdb::initialize(); });
     validate(path, volume, options);

@@ -9,7 +9,7 @@
 
 namespace rivulet {
 
-struct VdbWriteOptions {
+struct VdbWriteSettings {
     bool level_set = false;   // also write a narrow-band signed distance grid of the surface F = iso
     float half_width = 3.0f;  // narrow band half width, in voxels (at least 1)
 };
@@ -24,6 +24,7 @@ struct VdbWriteOptions {
 // Throws FileFormatError (a std::runtime_error) naming the path when the volume is malformed (an atlas
 // too small for its slots, a brick index out of range, a voxel that is not positive) or the file cannot
 // be written; a partly written file is removed.
-void write_vdb(const std::string& path, const DensityVolumeView& volume, const VdbWriteOptions& options = {});
+void write_vdb(const std::string& path, const DensityVolumeView& volume,
+               const VdbWriteSettings& options = {});
 
 }  // namespace rivulet

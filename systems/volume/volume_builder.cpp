@@ -84,7 +84,7 @@ void VolumeBuilder::plan(DensityVolume& out, std::size_t n) {
     frame_chunks_ = chunks(n);
     ParticleBounds b = chunk_bounds_[0];
     for (std::size_t c = 1; c < frame_chunks_; ++c) b = merge_bounds(b, chunk_bounds_[c]);
-    out.grid = plan_density_grid(b, settings_.grid_request());
+    out.grid = plan_density_grid(b, settings_.grid_params());
     out.iso = iso_;
     out.stored = 0;
     splat_groups_ = 0;

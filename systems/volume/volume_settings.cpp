@@ -31,8 +31,8 @@ float VolumeSettings::iso_value() const {
     return iso > 0 ? iso : static_cast<float>(calibrated_volume_iso(kernel_radii));
 }
 
-DensityGridRequest VolumeSettings::grid_request() const {
-    DensityGridRequest r;
+DensityGridParams VolumeSettings::grid_params() const {
+    DensityGridParams r;
     r.h = h();
     r.volume = particle_volume();
     r.voxel = voxel > 0 ? voxel : 0;

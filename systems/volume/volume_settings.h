@@ -27,7 +27,7 @@ struct VolumeSettings {
     float h() const { return kernel_radii * radius; }
     float particle_volume() const { return 8.0f * radius * radius * radius; }
     float iso_value() const;
-    DensityGridRequest grid_request() const;
+    DensityGridParams grid_params() const;
     // Empty when valid, else what is wrong, naming the option.
     std::string validate() const;
 };
