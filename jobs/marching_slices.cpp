@@ -16,11 +16,16 @@ namespace {
 // seed walks, the x/y face scans and the sweep's corner runs (8 in the AVX2 build, 4 in the baseline).
 // Either build gives the same bits (cache_column).
 template <int W, int RunLanes, class Cache>
-RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj,
-                                                std::uint32_t bk, float iso, const Cache& cache,
-                                                ConstPositions particles, const SliceScratch& s,
-                                                const BlockMeshOut& out, bool exhaustive,
-                                                unsigned empty_neighbours, const SharedFaces& shared) {
+RIVULET_INLINE BlockSweepStats march_block_body(const BlockSweepContext& block, const Cache& cache) {
+    const SliceGrid& g = *block.grid;
+    const std::uint32_t bi = block.bi, bj = block.bj, bk = block.bk;
+    const float iso = block.iso;
+    const ConstPositions particles = block.particles;
+    const SliceScratch& s = block.scratch;
+    const BlockMeshOut& out = block.out;
+    const bool exhaustive = block.exhaustive;
+    const unsigned empty_neighbours = block.empty_neighbours;
+    const SharedFaces& shared = block.shared;
     using Row = BitRow<W>;
     const MarchingTables& mt = marching_tables();
     const SliceKernel f = SliceKernel::from_rc(g.rc);
@@ -398,83 +403,50 @@ RIVULET_INLINE BlockSweepStats march_block_body(const SliceGrid& g, std::uint32_
 
 // The body for the row width the block edge needs (one word a row up to 63 cubes).
 template <int RunLanes, class Cache>
-RIVULET_INLINE BlockSweepStats march_block_rows(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj,
-                                                std::uint32_t bk, float iso, const Cache& cache,
-                                                ConstPositions particles, const SliceScratch& s,
-                                                const BlockMeshOut& out, bool exhaustive,
-                                                unsigned empty_neighbours, const SharedFaces& shared) {
-    switch (row_words(g.n)) {
+RIVULET_INLINE BlockSweepStats march_block_rows(const BlockSweepContext& block, const Cache& cache) {
+    switch (row_words(block.grid->n)) {
         case 1:
-            return march_block_body<1, RunLanes, Cache>(g, bi, bj, bk, iso, cache, particles, s, out,
-                                                        exhaustive, empty_neighbours, shared);
+            return march_block_body<1, RunLanes, Cache>(block, cache);
         case 2:
-            return march_block_body<2, RunLanes, Cache>(g, bi, bj, bk, iso, cache, particles, s, out,
-                                                        exhaustive, empty_neighbours, shared);
+            return march_block_body<2, RunLanes, Cache>(block, cache);
         default:
-            return march_block_body<3, RunLanes, Cache>(g, bi, bj, bk, iso, cache, particles, s, out,
-                                                        exhaustive, empty_neighbours, shared);
+            return march_block_body<3, RunLanes, Cache>(block, cache);
     }
 }
 
 template <class Cache>
-BlockSweepStats baseline_build(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
-                               float iso, const Cache& cache, ConstPositions particles, const SliceScratch& s,
-                               const BlockMeshOut& out, bool exhaustive, unsigned empty_neighbours,
-                               const SharedFaces& shared) {
-    return march_block_rows<4>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
-                               shared);
+BlockSweepStats baseline_build(const BlockSweepContext& block, const Cache& cache) {
+    return march_block_rows<4>(block, cache);
 }
 
 // flatten: the body's lambdas and the column kernel are inlined here, so they are built for AVX2 too.
 template <class Cache>
-[[gnu::flatten]] RIVULET_AVX2 BlockSweepStats avx2_build(const SliceGrid& g, std::uint32_t bi,
-                                                         std::uint32_t bj, std::uint32_t bk, float iso,
-                                                         const Cache& cache, ConstPositions particles,
-                                                         const SliceScratch& s, const BlockMeshOut& out,
-                                                         bool exhaustive, unsigned empty_neighbours,
-                                                         const SharedFaces& shared) {
-    return march_block_rows<8>(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours,
-                               shared);
+[[gnu::flatten]] RIVULET_AVX2 BlockSweepStats avx2_build(const BlockSweepContext& block, const Cache& cache) {
+    return march_block_rows<8>(block, cache);
 }
 
 template <class Cache>
-BlockSweepStats dispatch(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk, float iso,
-                         const Cache& cache, ConstPositions particles, const SliceScratch& s,
-                         const BlockMeshOut& out, bool exhaustive, unsigned empty_neighbours,
-                         const SharedFaces& shared) {
-    if (cpu_has_avx2())
-        return avx2_build(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
-    return baseline_build(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
+BlockSweepStats dispatch(const BlockSweepContext& block, const Cache& cache) {
+    if (cpu_has_avx2()) return avx2_build(block, cache);
+    return baseline_build(block, cache);
 }
 
 }  // namespace
 
-BlockSweepStats march_block_baseline(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
-                                     float iso, const LookupCacheView& cache, ConstPositions particles,
-                                     const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
-                                     unsigned empty_neighbours, const SharedFaces& shared) {
-    return baseline_build(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
+BlockSweepStats march_block_baseline(const BlockSweepContext& block, const LookupCacheView& cache) {
+    return baseline_build(block, cache);
 }
 
-BlockSweepStats march_block_baseline(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
-                                     float iso, const AnisoLookupCacheView& cache, ConstPositions particles,
-                                     const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
-                                     unsigned empty_neighbours, const SharedFaces& shared) {
-    return baseline_build(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
+BlockSweepStats march_block_baseline(const BlockSweepContext& block, const AnisoLookupCacheView& cache) {
+    return baseline_build(block, cache);
 }
 
-BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
-                            float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
-                            unsigned empty_neighbours, const SharedFaces& shared) {
-    return dispatch(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
+BlockSweepStats march_block(const BlockSweepContext& block, const LookupCacheView& cache) {
+    return dispatch(block, cache);
 }
 
-BlockSweepStats march_block(const SliceGrid& g, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
-                            float iso, const AnisoLookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& s, const BlockMeshOut& out, bool exhaustive,
-                            unsigned empty_neighbours, const SharedFaces& shared) {
-    return dispatch(g, bi, bj, bk, iso, cache, particles, s, out, exhaustive, empty_neighbours, shared);
+BlockSweepStats march_block(const BlockSweepContext& block, const AnisoLookupCacheView& cache) {
+    return dispatch(block, cache);
 }
 
 }  // namespace rivulet

@@ -113,31 +113,32 @@ inline constexpr std::uint32_t kFaceFree = 0, kFaceBusy = 1, kFaceDone = 2;
 // Face f = 2 * axis + side (side 1 is the +axis face), as in `empty_neighbours`.
 using SharedFaces = std::array<SharedFace, 6>;
 
-// `exhaustive`: also seed from every sign change along every z column of the block ((n+1)^3 corner
-// evaluations), which finds every component, empty cavities included, like plain marching cubes.
-// `empty_neighbours`: bit 2 a + side is set when the neighbouring block across face (axis a, min side 0 /
-// max side 1) lists no particle: no particle reaches that face's corners, F = 0 on all of them, and the
-// face scan skips it.
-BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
-                            float iso, const LookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false,
-                            unsigned empty_neighbours = 0, const SharedFaces& shared = {});
-// The same over an anisotropic cache (jobs/anisotropic_kernels.h); `particles` are the smoothed centres.
-BlockSweepStats march_block(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj, std::uint32_t bk,
-                            float iso, const AnisoLookupCacheView& cache, ConstPositions particles,
-                            const SliceScratch& scratch, const BlockMeshOut& out, bool exhaustive = false,
-                            unsigned empty_neighbours = 0, const SharedFaces& shared = {});
+// One block's sweep: which block, what it reads and where it writes; the extractor fills one per block
+// job and hands it to march_block with the block's lookup cache.
+struct BlockSweepContext {
+    const SliceGrid* grid = nullptr;
+    std::uint32_t bi = 0, bj = 0, bk = 0;  // the block
+    float iso = 0;
+    ConstPositions particles;  // the block's particles, in its lookup cache's order
+    SliceScratch scratch;      // one worker's
+    BlockMeshOut out;
+    // Also seed from every sign change along every z column of the block ((n+1)^3 corner evaluations),
+    // which finds every component, empty cavities included, like plain marching cubes.
+    bool exhaustive = false;
+    // Bit 2 a + side is set when the neighbouring block across face (axis a, min side 0 / max side 1)
+    // lists no particle: no particle reaches that face's corners, F = 0 on all of them, and the face scan
+    // skips it.
+    unsigned empty_neighbours = 0;
+    SharedFaces shared = {};
+};
+
+// The sweep over a spherical-kernel cache, or an anisotropic one (jobs/anisotropic_kernels.h; the
+// context's particles are then the smoothed centres).
+BlockSweepStats march_block(const BlockSweepContext& block, const LookupCacheView& cache);
+BlockSweepStats march_block(const BlockSweepContext& block, const AnisoLookupCacheView& cache);
 // The x86-64 baseline build of march_block, which it runs where the CPU lacks AVX2 (or RIVULET_NO_AVX2
 // is set); tests compare the two builds byte for byte.
-BlockSweepStats march_block_baseline(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj,
-                                     std::uint32_t bk, float iso, const LookupCacheView& cache,
-                                     ConstPositions particles, const SliceScratch& scratch,
-                                     const BlockMeshOut& out, bool exhaustive, unsigned empty_neighbours,
-                                     const SharedFaces& shared);
-BlockSweepStats march_block_baseline(const SliceGrid& grid, std::uint32_t bi, std::uint32_t bj,
-                                     std::uint32_t bk, float iso, const AnisoLookupCacheView& cache,
-                                     ConstPositions particles, const SliceScratch& scratch,
-                                     const BlockMeshOut& out, bool exhaustive, unsigned empty_neighbours,
-                                     const SharedFaces& shared);
+BlockSweepStats march_block_baseline(const BlockSweepContext& block, const LookupCacheView& cache);
+BlockSweepStats march_block_baseline(const BlockSweepContext& block, const AnisoLookupCacheView& cache);
 
 }  // namespace rivulet

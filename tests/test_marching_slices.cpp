@@ -578,11 +578,10 @@ Swept sweep_block(BlockCaches& caches, SweepBuffers& b, std::uint32_t block, con
     const LookupCacheView cache = caches.build(bi, bj, bk);
     const SliceScratch scratch = b.view();
     const BlockMeshOut out{b.positions, b.triangles, b.border, b.foreign};
+    const BlockSweepContext context{&g,      bi,  bj,    bk, caches.iso, caches.c.pos(),
+                                    scratch, out, false, 0,  shared};
     const BlockSweepStats st =
-        build == Build::kBaseline
-            ? march_block_baseline(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch, out, false, 0,
-                                   shared)
-            : march_block(g, bi, bj, bk, caches.iso, cache, caches.c.pos(), scratch, out, false, 0, shared);
+        build == Build::kBaseline ? march_block_baseline(context, cache) : march_block(context, cache);
     EXPECT_FALSE(st.overflow);
     // Owned vertices from the bottom of the buffer, foreign ones from its top.
     std::vector<float> positions(b.positions.begin(), b.positions.begin() + 4 * std::ptrdiff_t(st.owned));

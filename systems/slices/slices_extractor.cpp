@@ -410,10 +410,10 @@ void SlicesExtractor::extract_block(std::uint32_t scheduled) {
         const std::size_t room = slot.border.capacity();
         const BlockMeshOut mesh{slot.positions.span(4 * room), slot.triangles.span(slot.triangles.capacity()),
                                 slot.border.span(room), slot.foreign.span(room)};
-        slot.sweep = aniso ? march_block(grid_, bi, bj, bk, iso_, aniso_cache, particles, scratch, mesh,
-                                         settings_.exhaustive_seeds, empty_neighbours, shared)
-                           : march_block(grid_, bi, bj, bk, iso_, cache, particles, scratch, mesh,
-                                         settings_.exhaustive_seeds, empty_neighbours, shared);
+        const BlockSweepContext block{
+            &grid_,           bi,    bj, bk, iso_, particles, scratch, mesh, settings_.exhaustive_seeds,
+            empty_neighbours, shared};
+        slot.sweep = aniso ? march_block(block, aniso_cache) : march_block(block, cache);
         if (!slot.sweep.overflow) break;
         grow(2 * room, 2 * slot.triangles.capacity() / 3);
     }
