@@ -1,5 +1,7 @@
 #include "runtime/lib/frame_graph.h"
 
+#include <fmt/format.h>
+
 #include "runtime/lib/trace_recorder.h"
 
 #include <tbb/blocked_range.h>
@@ -45,19 +47,19 @@ FrameGraph::JobId FrameGraph::nested(std::string name, JobId parent) {
 
 std::string FrameGraph::dot() const {
     std::string out = "digraph frame {\n  rankdir=TB;\n  node [shape=box, fontname=\"monospace\"];\n";
-    const auto node = [](JobId j) { return "j" + std::to_string(j); };
+    auto to = std::back_inserter(out);
     for (JobId j = 0; j < jobs_.size(); ++j) {
-        const Job& job = jobs_[j];
-        out += "  " + node(j) + " [label=\"" + job.name +
-               (job_parallel(j) ? "*\", style=\"filled\", " : "\", ") +
-               (job_parallel(j) ? "shape=box3d" : "shape=box") + "];\n";
+        if (job_parallel(j))
+            fmt::format_to(to, "  j{} [label=\"{}*\", style=\"filled\", shape=box3d];\n", j, jobs_[j].name);
+        else
+            fmt::format_to(to, "  j{} [label=\"{}\", shape=box];\n", j, jobs_[j].name);
     }
     for (JobId j = 0; j < jobs_.size(); ++j) {
-        for (const JobId a : jobs_[j].after) out += "  " + node(a) + " -> " + node(j) + ";\n";
-        if (jobs_[j].parent >= 0)
-            out += "  " + node(static_cast<JobId>(jobs_[j].parent)) + " -> " + node(j) + " [style=dashed];\n";
+        for (const JobId a : jobs_[j].after) fmt::format_to(to, "  j{} -> j{};\n", a, j);
+        if (jobs_[j].parent >= 0) fmt::format_to(to, "  j{} -> j{} [style=dashed];\n", jobs_[j].parent, j);
     }
-    return out + "}\n";
+    out += "}\n";
+    return out;
 }
 
 void FrameGraph::run_nested_items(JobId j, std::size_t n, ItemRef item) {
