@@ -5,7 +5,6 @@
 #include "runtime/lib/scene_simulation.h"
 #include "systems/scenes/scene.h"
 #include "systems/scenes/scene_json.h"
-#include "systems/scenes/scene_limits.h"
 #include "systems/scenes/scene_validation.h"
 
 namespace rivulet {
@@ -23,11 +22,8 @@ Simulation::Simulation(const std::string& scene, int warmup, int threads)
     : state_(std::make_unique<State>()) {
     api::translate_errors([&] {
         State& s = *state_;
-        if (warmup > kMaxWarmupFrames)
-            throw Error("warmup must be at most " + std::to_string(kMaxWarmupFrames) + ", got " +
-                        std::to_string(warmup));
         s.scene = resolve_scene(scene);
-        if (warmup >= 0) s.scene.warmup_frames = warmup;
+        if (warmup != -1) s.scene.warmup_frames = warmup;  // validate_scene bounds it as a scene file's
         validate_scene(s.scene);
         s.threads = threads;
         tbb::task_arena& workers = s.arena.get(threads);

@@ -56,6 +56,8 @@ struct SurfaceExtractor::Workspace {
     // Capacity for a rebuilt system: room to grow, so a slowly growing simulation rebuilds rarely.
     std::size_t capacity_for(std::size_t particles) const { return particles + particles / 4; }
 
+    // Checks the staged particles and the settings, estimates the radius if asked, runs the method.
+    MeshView run(const SurfaceSettings& settings);
     MeshView run_slices(const SurfaceSettings& s, tbb::task_arena& workers);
     MeshView run_scan(const SurfaceSettings& s, tbb::task_arena& workers);
     MeshView run_volume(const SurfaceSettings& s, tbb::task_arena& workers);
@@ -90,15 +92,12 @@ MeshView SurfaceExtractor::Workspace::run_slices(const SurfaceSettings& s, tbb::
 }
 
 MeshView SurfaceExtractor::Workspace::run_scan(const SurfaceSettings& s, tbb::task_arena& workers) {
-    // The planes run from half a radius inside the extreme spheres, so every sphere is cut at least once;
-    // the cylinder layout depends on that range, so a new range rebuilds the converter.
-    float lo = y[0], hi = y[0];
-    for (float v : y.span(n)) lo = std::min(lo, v), hi = std::max(hi, v);
-    const float v_top = hi + 0.5f * s.radius, v_bottom = lo - 0.5f * s.radius;
+    // The cylinder layout spans the planes' range, so a new range rebuilds the converter.
+    ScanSettings settings;
+    settings.radius = s.radius;
+    settings.fit_v_range(y.span(n));
+    const float v_top = settings.v_top, v_bottom = settings.v_bottom;
     if (!scan.system || !scan.fits(s, n) || v_top != scan.v_top || v_bottom != scan.v_bottom) {
-        ScanSettings settings;
-        settings.radius = s.radius;
-        settings.v_top = v_top, settings.v_bottom = v_bottom;
         scan.graph.reset();
         scan.system = std::make_unique<ScanConverter>(settings, capacity_for(n));
         scan.system->prepare_output(scan.out);
@@ -142,60 +141,60 @@ SurfaceExtractor& SurfaceExtractor::operator=(SurfaceExtractor&&) noexcept = def
 MeshView SurfaceExtractor::extract(std::span<const float> xyz, const SurfaceSettings& settings) {
     if (xyz.size() % 3 != 0)
         throw Error("positions: " + std::to_string(xyz.size()) + " floats is not 3 a particle");
-    const std::size_t n = xyz.size() / 3;
     Workspace& w = *workspace_;
     return api::translate_errors([&] {
-        w.x.reserve(n), w.y.reserve(n), w.z.reserve(n);
-        for (std::size_t i = 0; i < n; ++i)
+        w.n = xyz.size() / 3;
+        w.x.reserve(w.n), w.y.reserve(w.n), w.z.reserve(w.n);
+        for (std::size_t i = 0; i < w.n; ++i)
             w.x[i] = xyz[3 * i], w.y[i] = xyz[3 * i + 1], w.z[i] = xyz[3 * i + 2];
-        w.n = n;
-        return extract({w.x.data(), n}, {w.y.data(), n}, {w.z.data(), n}, settings);
+        return w.run(settings);
     });
 }
 
 MeshView SurfaceExtractor::extract(std::span<const float> x, std::span<const float> y,
                                    std::span<const float> z, const SurfaceSettings& settings) {
+    if (x.size() != y.size() || x.size() != z.size())
+        throw Error("positions: x, y and z hold " + std::to_string(x.size()) + ", " +
+                    std::to_string(y.size()) + " and " + std::to_string(z.size()) + " values");
     Workspace& w = *workspace_;
     return api::translate_errors([&] {
-        if (x.size() != y.size() || x.size() != z.size())
-            throw Error("positions: x, y and z hold " + std::to_string(x.size()) + ", " +
-                        std::to_string(y.size()) + " and " + std::to_string(z.size()) + " values");
-        const std::size_t n = x.size();
-        if (n == 0) throw Error("no particles to mesh");
-        if (x.data() != w.x.data()) {  // not staged by the interleaved overload already
-            w.x.reserve(n), w.y.reserve(n), w.z.reserve(n);
-            std::copy(x.begin(), x.end(), w.x.data());
-            std::copy(y.begin(), y.end(), w.y.data());
-            std::copy(z.begin(), z.end(), w.z.data());
-            w.n = n;
-        }
-        for (std::size_t i = 0; i < n; ++i)
-            if (!std::isfinite(w.x[i]) || !std::isfinite(w.y[i]) || !std::isfinite(w.z[i]))
-                throw Error("positions: particle " + std::to_string(i) +
-                            " has a coordinate that is NaN or infinite");
-        if (!(settings.radius >= 0) || !std::isfinite(settings.radius))
-            throw Error("radius must be positive and finite (0: estimated), got " +
-                        std::to_string(settings.radius));
-        if (!(settings.voxel >= 0) || !std::isfinite(settings.voxel))
-            throw Error("voxel must be positive and finite (0: automatic), got " +
-                        std::to_string(settings.voxel));
-        tbb::task_arena& workers = w.arena.get(settings.threads);
-        SurfaceSettings s = settings;
-        if (s.radius == 0) {
-            workers.execute([&] { s.radius = estimate_particle_radius(w.positions()); });
-            if (!(s.radius > 0))
-                throw Error("cannot estimate a particle radius (all particles coincide): set the radius");
-        }
-        switch (s.method) {
-            case Method::kSlices:
-                return w.run_slices(s, workers);
-            case Method::kScan:
-                return w.run_scan(s, workers);
-            case Method::kVolume:
-                return w.run_volume(s, workers);
-        }
-        throw Error("unknown surface method " + std::to_string(int(s.method)));
+        w.n = x.size();
+        w.x.reserve(w.n), w.y.reserve(w.n), w.z.reserve(w.n);
+        std::copy(x.begin(), x.end(), w.x.data());
+        std::copy(y.begin(), y.end(), w.y.data());
+        std::copy(z.begin(), z.end(), w.z.data());
+        return w.run(settings);
     });
+}
+
+MeshView SurfaceExtractor::Workspace::run(const SurfaceSettings& settings) {
+    if (n == 0) throw Error("no particles to mesh");
+    for (std::size_t i = 0; i < n; ++i)
+        if (!std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i]))
+            throw Error("positions: particle " + std::to_string(i) +
+                        " has a coordinate that is NaN or infinite");
+    if (!(settings.radius >= 0) || !std::isfinite(settings.radius))
+        throw Error("radius must be positive and finite (0: estimated), got " +
+                    std::to_string(settings.radius));
+    if (!(settings.voxel >= 0) || !std::isfinite(settings.voxel))
+        throw Error("voxel must be positive and finite (0: automatic), got " +
+                    std::to_string(settings.voxel));
+    tbb::task_arena& workers = arena.get(settings.threads);
+    SurfaceSettings s = settings;
+    if (s.radius == 0) {
+        workers.execute([&] { s.radius = estimate_particle_radius(positions()); });
+        if (!(s.radius > 0))
+            throw Error("cannot estimate a particle radius (all particles coincide): set the radius");
+    }
+    switch (s.method) {
+        case Method::kSlices:
+            return run_slices(s, workers);
+        case Method::kScan:
+            return run_scan(s, workers);
+        case Method::kVolume:
+            return run_volume(s, workers);
+    }
+    throw Error("unknown surface method " + std::to_string(int(s.method)));
 }
 
 std::uint64_t mesh_hash(const MeshView& mesh) {

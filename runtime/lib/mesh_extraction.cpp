@@ -115,10 +115,7 @@ MeshResult extract_mesh(const ParticleCloud& cloud, const MeshSettings& req) {
     if (req.method != "scan") throw std::invalid_argument(fmt::format("unknown method '{}'", req.method));
     ScanSettings s = req.scan;
     s.radius = result.radius;
-    const auto [lo, hi] = std::minmax_element(cloud.y.begin(), cloud.y.end());
-    // Planes from half a radius inside the extreme spheres: every sphere is cut at least once.
-    s.v_top = *hi + 0.5f * result.radius;
-    s.v_bottom = *lo - 0.5f * result.radius;
+    s.fit_v_range(cloud.y);
     ScanConverter scan(s, n);
     ScanOutput out;
     scan.prepare_output(out);

@@ -1,11 +1,19 @@
 #include "systems/scan/scan_settings.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 #include <cmath>
 
 #include "jobs/deform_cylinder.h"
 
 namespace rivulet {
+
+void ScanSettings::fit_v_range(std::span<const float> y) {
+    const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+    v_top = *hi + 0.5f * radius;
+    v_bottom = *lo - 0.5f * radius;
+}
 
 std::string ScanSettings::validate() const {
     if (u < 3 || u > kMaxRingVertices)

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "jobs/cross_section.h"
@@ -20,6 +21,9 @@ struct ScanSettings {
     float v_bottom = 0;  // y of the last cross-section plane
 
     float grouping_distance() const { return epsilon > 0 ? epsilon : epsilon_diameters * 2.0f * radius; }
+    // For particles meshed on their own (no scene to take the range from): planes from half a radius
+    // inside the extreme spheres, so every sphere is cut at least once. `y` is not empty.
+    void fit_v_range(std::span<const float> y);
     // Empty when valid, else what is wrong (for a clear error message).
     std::string validate() const;
 };
