@@ -96,7 +96,7 @@ TEST(HostileInput, DeeplyNestedJsonIsRefused) {
     write_text(path, std::string(100000, '[') + std::string(100000, ']'));
     EXPECT_EQ(contains(error_of([&] { load_scene_file(path); }), "nested deeper than 64"), "");
     // Brackets inside strings do not count.
-    write_text(path, "{\"name\": \"" + std::string(80, '[') + "\"}");
+    write_text(path, std::string("{\"name\": \"").append(80, '[').append("\"}"));
     EXPECT_EQ(load_scene_file(path).name, std::string(80, '['));
 }
 
@@ -183,8 +183,9 @@ TEST(HostileInput, WarmupFramesObeyOneLimitFromEverySource) {
 TEST(HostileInput, PoolSamplesHaveADocumentedCeiling) {
     const std::string scene = temp_path("big-pool.json");
     write_text(scene, R"({"base": "fountain", "pool": {"nx": 4096, "nz": 4096}})");
-    expect_one_error_line(run_cli("run --no-render --frames 1 --scene " + scene),
-                          "pool.nx must be in [2, " + std::to_string(kMaxPoolSamples) + "], got 4096");
+    expect_one_error_line(
+        run_cli("run --no-render --frames 1 --scene " + scene),
+        std::string("pool.nx must be in [2, ").append(std::to_string(kMaxPoolSamples)).append("], got 4096"));
 }
 
 TEST(HostileInput, OptionErrorsAreOneLineWithTheUsageStatus) {

@@ -14,10 +14,13 @@ namespace {
 struct ReplayOptions {
     std::string file;
     int threads = 0;
+    int frames = 0;  // the first this many recorded frames; 0: all
 };
 
 int replay(const ReplayOptions& o) {
-    const Recording rec = read_recording(o.file);
+    Recording rec = read_recording(o.file);
+    const std::size_t recorded = rec.frames.size();
+    if (o.frames > 0 && std::size_t(o.frames) < recorded) rec.frames.resize(std::size_t(o.frames));
     ThreadControl threads(o.threads);
     PipelineSettings config;
     config.method = rec.method;
@@ -37,8 +40,8 @@ int replay(const ReplayOptions& o) {
 
     const auto diverged = first_divergence(rec, pipeline.records());
     if (!diverged) {
-        fmt::print("replay {}: scene {}, method {}, {} frames at {} threads: identical\n", o.file,
-                   rec.scene.name, surface_method_name(rec.method), frames, threads.threads());
+        fmt::print("replay {}: scene {}, method {}, {} of {} frames at {} threads: identical\n", o.file,
+                   rec.scene.name, surface_method_name(rec.method), frames, recorded, threads.threads());
         return 0;
     }
     const Divergence& d = *diverged;
@@ -59,6 +62,8 @@ void add_replay_command(CLI::App& app, int& status) {
         "Re-run a recording (rivulet run --record) and report the first frame that differs (exit 1)");
     cmd->add_option("FILE", opts->file, "Recording file")->required();
     add_threads_option(*cmd, opts->threads, "Threads for TBB (0 = all)");
+    cmd->add_option("--frames", opts->frames, "Replay only the first N recorded frames (0 = all)")
+        ->check(CLI::Range(0, 1000000));
     cmd->callback([opts, &status] { status = replay(*opts); });
 }
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Runs every fuzz target of a RIVULET_SANITIZE=fuzz build, one after the other (docs/fuzzing.md).
+# Runs every fuzz target of a RIVULET_SANITIZE=fuzz build (docs/fuzzing.md).
 #   tests/fuzz/run_fuzzers.sh BUILD_DIR SECONDS         each target for SECONDS (CI: 30)
 #   tests/fuzz/run_fuzzers.sh BUILD_DIR --runs N        each target for N executions (long run: 10000000)
 #   ... [--only fuzz_a,fuzz_b]                          a subset
+#   ... [--parallel N]                                  N targets at a time (CI: one per core)
 # Per target fuzz_<name>: first its checked-in regressions (tests/fuzz/regressions/<name>/, each input
 # once), then fuzzing from the seed corpus (tests/fuzz/corpus/<name>/, read only) and
 # BUILD_DIR/fuzz/fuzz_<name>/corpus, where new inputs go and stay for the next run; a failing input is
@@ -10,7 +11,7 @@
 # Fails (exit 1) if any target crashes, hangs, leaks or allocates over the caps below.
 set -euo pipefail
 
-usage() { sed -n '3,5p' "$0" >&2; exit 2; }
+usage() { sed -n '3,6p' "$0" >&2; exit 2; }
 (($# >= 2)) || usage
 build=$(cd "$1" && pwd)
 shift
@@ -22,9 +23,15 @@ else
   budget=(-max_total_time="$1") budget_text="$1 s"
   shift
 fi
-only=""
-if [ "${1:-}" = "--only" ]; then only=",${2:?--only needs names}," && shift 2; fi
-(($# == 0)) || usage
+only="" parallel=1
+while (($# > 0)); do
+  case "$1" in
+    --only) only=",${2:?--only needs names}," && shift 2 ;;
+    --parallel) parallel=${2:?--parallel needs a count} && shift 2 ;;
+    *) usage ;;
+  esac
+done
+[[ "$parallel" =~ ^[1-9][0-9]*$ ]] || usage
 
 here=$(cd "$(dirname "$0")" && pwd)
 # A single input running 5 s is a hang; 2 GiB resident or one allocation over 128 MiB is a reader
@@ -69,42 +76,52 @@ for bin in "$build"/bin/fuzz_*; do
 done
 ((${#targets[@]} > 0)) || { echo "no fuzz targets in $build/bin (configure with -DRIVULET_SANITIZE=fuzz)" >&2; exit 2; }
 
-echo "fuzzing ${#targets[@]} targets, $budget_text each"
+# One target: its regressions, then fuzzing. Prints its summary (and what failed) to $work/summary and
+# exits non-zero if anything failed, so that targets can run side by side and report in order.
+fuzz_one() {
+  local name=$1 bin=$build/bin/$1 short=${1#fuzz_} work=$build/fuzz/$1 rc=0 bad=0
+  mkdir -p "$work/corpus"
+  local dict=()
+  [ -f "$here/dict/$short.dict" ] && dict=(-dict="$here/dict/$short.dict")
+  {
+    local regressions=()
+    if [ -d "$here/regressions/$short" ]; then
+      mapfile -t regressions < <(find "$here/regressions/$short" -type f ! -name '*.md' | sort)
+    fi
+    if ((${#regressions[@]} > 0)); then
+      if ! "$bin" "${limits[@]}" "${regressions[@]}" >"$work/regressions.log" 2>&1; then
+        echo "$name: FAILED on a checked-in regression input (tests/fuzz/regressions/$short):"
+        report "$work/regressions.log"
+        bad=1
+      fi
+    fi
+    local start=$SECONDS
+    "$bin" "${budget[@]}" "${limits[@]}" "${dict[@]}" -print_final_stats=1 -artifact_prefix="$work/" \
+      "$work/corpus" "$here/corpus/$short" >"$work/fuzz.log" 2>&1 || rc=$?
+    printf '%s: %-6s %s s, execs %s, exec/s %s, cov %s, ft %s, corpus %s, peak rss %s MB\n' "$name" \
+      "$( ((rc == 0)) && echo ok || echo FAILED)" $((SECONDS - start)) \
+      "$(final_stat number_of_executed_units "$work/fuzz.log")" "$(final_stat average_exec_per_sec "$work/fuzz.log")" \
+      "$(status_field cov "$work/fuzz.log")" "$(status_field ft "$work/fuzz.log")" \
+      "$(status_field corp "$work/fuzz.log")" "$(final_stat peak_rss_mb "$work/fuzz.log")"
+    if ((rc != 0)); then
+      report "$work/fuzz.log"
+      bad=1
+    fi
+  } >"$work/summary"
+  return $bad
+}
+
+echo "fuzzing ${#targets[@]} targets, $budget_text each, $parallel at a time"
+declare -A pid_of
+for name in "${targets[@]}"; do
+  while (($(jobs -rp | wc -l) >= parallel)); do wait -n || true; done
+  fuzz_one "$name" &
+  pid_of[$name]=$!
+done
 failed=()
 for name in "${targets[@]}"; do
-  bin=$build/bin/$name
-  short=${name#fuzz_}
-  work=$build/fuzz/$name
-  mkdir -p "$work/corpus"
-  dict=()
-  [ -f "$here/dict/$short.dict" ] && dict=(-dict="$here/dict/$short.dict")
-
-  regressions=()
-  if [ -d "$here/regressions/$short" ]; then
-    mapfile -t regressions < <(find "$here/regressions/$short" -type f ! -name '*.md' | sort)
-  fi
-  if ((${#regressions[@]} > 0)); then
-    if ! "$bin" "${limits[@]}" "${regressions[@]}" >"$work/regressions.log" 2>&1; then
-      echo "$name: FAILED on a checked-in regression input (tests/fuzz/regressions/$short):"
-      report "$work/regressions.log"
-      failed+=("$name (regressions)")
-    fi
-  fi
-
-  start=$SECONDS
-  rc=0
-  "$bin" "${budget[@]}" "${limits[@]}" "${dict[@]}" -print_final_stats=1 -artifact_prefix="$work/" \
-    "$work/corpus" "$here/corpus/$short" >"$work/fuzz.log" 2>&1 || rc=$?
-  line=$(printf '%s: %-6s %s s, execs %s, exec/s %s, cov %s, ft %s, corpus %s, peak rss %s MB' "$name" \
-    "$( ((rc == 0)) && echo ok || echo FAILED)" $((SECONDS - start)) \
-    "$(final_stat number_of_executed_units "$work/fuzz.log")" "$(final_stat average_exec_per_sec "$work/fuzz.log")" \
-    "$(status_field cov "$work/fuzz.log")" "$(status_field ft "$work/fuzz.log")" \
-    "$(status_field corp "$work/fuzz.log")" "$(final_stat peak_rss_mb "$work/fuzz.log")")
-  echo "$line"
-  if ((rc != 0)); then
-    report "$work/fuzz.log"
-    failed+=("$name")
-  fi
+  wait "${pid_of[$name]}" || failed+=("$name")
+  cat "$build/fuzz/$name/summary"
 done
 
 if ((${#failed[@]} > 0)); then

@@ -26,18 +26,21 @@ std::vector<float> corner_field(const SliceGrid& g, ConstPositions p, float reac
     std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return mid[a] < mid[b]; });
     const std::int32_t skip = 2 * static_cast<std::int32_t>(std::ceil(reach / g.voxel)) + 2;
     std::vector<float> field(std::size_t(nx) * ny * nz);
-    for (std::uint32_t k = 0; k < nz; ++k)
+    for (std::uint32_t k = 0; k < nz; ++k) {
+        // The particles within `skip` slabs of k are one run of `order` (sorted by slab).
+        const auto near = [&](std::uint32_t q) { return mid[q] >= std::int32_t(k) - skip; };
+        const auto first = std::partition_point(order.begin(), order.end(), [&](auto q) { return !near(q); });
+        const auto last = std::partition_point(first, order.end(),
+                                               [&](auto q) { return mid[q] <= std::int32_t(k) + skip; });
         for (std::uint32_t j = 0; j < ny; ++j)
             for (std::uint32_t i = 0; i < nx; ++i) {
                 const float px = g.cx(std::int32_t(i)), py = g.cy(std::int32_t(j)),
                             pz = g.cz(std::int32_t(k));
                 float sum = 0.0f;
-                for (std::uint32_t q : order) {
-                    if (std::abs(mid[q] - std::int32_t(k)) > skip) continue;  // adds exactly 0
-                    sum += term(q, px, py, pz);
-                }
+                for (auto q = first; q != last; ++q) sum += term(*q, px, py, pz);
                 field[(std::size_t(k) * ny + j) * nx + i] = sum;
             }
+    }
     return field;
 }
 
