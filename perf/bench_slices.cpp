@@ -1,7 +1,8 @@
 // Marching slices throughput: a cubic lattice block of particles (spacing 2 radii, the default field:
 // R_c = 2 radii, voxel = radius / 2, the default block size) meshed through the slices.* frame-graph jobs
-// at 1 and 2 threads. Prints the median wall time of `--repeat` runs (default 5) and the slowest stages.
-//   bench_slices [--repeat K] [--block N] [--voxel-fraction F]
+// at 1 and 2 threads (or --threads). Prints the median wall time of `--repeat` runs (default 5), the mesh
+// hash (the same at every thread count) and the slowest stages.
+//   bench_slices [--repeat K] [--block N] [--voxel-fraction F] [--threads 1,2,16]
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "jobs/mesh_hash.h"
+#include "perf/support/bench_util.h"
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/slices_jobs.h"
 #include "runtime/lib/thread_control.h"
@@ -30,7 +32,10 @@ int main(int argc, char** argv) {
     int repeat = 5;
     std::uint32_t block = rivulet::SlicesSettings{}.block_cubes;
     float voxel_fraction = 0.5f;
+    std::vector<long> thread_counts{1, 2};
     for (int i = 1; i + 1 < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--threads"))
+            thread_counts = rivulet::bench::parse_list(argv[i + 1], "threads");
         if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(argv[i + 1]));
         if (!std::strcmp(argv[i], "--block")) block = static_cast<std::uint32_t>(std::atoi(argv[i + 1]));
         if (!std::strcmp(argv[i], "--voxel-fraction"))
@@ -55,7 +60,8 @@ int main(int argc, char** argv) {
         s.radius = radius;
         s.voxel = voxel_fraction * radius;
         s.block_cubes = block;
-        for (int threads : {1, 2}) {
+        for (const long t : thread_counts) {
+            const int threads = static_cast<int>(t);
             rivulet::ThreadControl control(threads);
             rivulet::SlicesExtractor slices(s, set.size());
             rivulet::SurfaceMesh mesh;

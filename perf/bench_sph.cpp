@@ -3,7 +3,8 @@
 // at each particle count and thread count (each parallel phase over its chunks with tbb::parallel_for in
 // a task_arena of that width). Per row: frames/s over the run and per third of it (release, surge,
 // splash), substeps and solver iterations per frame, the largest density error a substep left, and the
-// share of time in neighbour work (grid sort and lists), solver iterations and the rest.
+// share of time in neighbour work (grid sort and lists), solver iterations and the rest, and the hash of
+// the last frame's particles (positions, velocities, ids), which must be the same at every thread count.
 //   bench_sph [--quick] [--frames N] [--sizes 8000,24000] [--threads 1,2] [--solver dfsph|wcsph]
 //             [--cfl X]
 // --quick: 8k and 24k, 60 frames. Defaults: 8k, 24k, 64k, 256k; 180 frames (3 s); threads 1 and 2.
@@ -21,7 +22,9 @@
 #include <string>
 #include <vector>
 
+#include "jobs/mesh_hash.h"
 #include "perf/support/bench_util.h"
+#include "systems/particles/particle_hash.h"
 #include "systems/sim/sph_scenes.h"
 #include "systems/sim/sph_simulation.h"
 
@@ -61,6 +64,7 @@ struct Row {
     double substeps = 0, divergence = 0, density = 0, max_error = 0;
     double share[3] = {0, 0, 0};
     std::size_t particles = 0;
+    std::uint64_t hash = 0;  // of the last frame's particles
 };
 
 Row run(const rivulet::SphDesc& desc, int threads, int frames) {
@@ -107,6 +111,7 @@ Row run(const rivulet::SphDesc& desc, int threads, int frames) {
     const double total = r.share[0] + r.share[1] + r.share[2];
     for (double& s : r.share) s = total > 0 ? 100.0 * s / total : 0;
     r.substeps /= frames, r.divergence /= frames, r.density /= frames;
+    r.hash = rivulet::particle_hash(ps);
     return r;
 }
 
@@ -142,19 +147,19 @@ int main(int argc, char** argv) try {
     }
     std::printf("SPH dam break, %s, %d frames of 1/60 s (%.1f s simulated), Release\n",
                 solver == rivulet::SphSolver::kDfsph ? "DFSPH" : "WCSPH", frames, frames / 60.0);
-    std::printf("%9s %7s %8s %8s %8s %8s %8s %8s %8s %9s %6s %6s %6s\n", "particles", "threads", "frames/s",
-                "release", "surge", "splash", "substeps", "div_it", "dens_it", "max_err%", "nbr%", "solve%",
-                "rest%");
+    std::printf("%9s %7s %8s %8s %8s %8s %8s %8s %8s %9s %6s %6s %6s %16s\n", "particles", "threads",
+                "frames/s", "release", "surge", "splash", "substeps", "div_it", "dens_it", "max_err%", "nbr%",
+                "solve%", "rest%", "hash");
     for (long size : sizes) {
         rivulet::SphDesc desc = rivulet::make_dambreak(std::size_t(std::max(size, 100L)));
         desc.solver = solver;
         if (cfl > 0) desc.cfl = cfl;
         for (long t : threads) {
             const Row r = run(desc, int(t), frames);
-            std::printf("%9zu %7ld %8.2f %8.2f %8.2f %8.2f %8.1f %8.1f %8.1f %9.4f %6.1f %6.1f %6.1f\n",
+            std::printf("%9zu %7ld %8.2f %8.2f %8.2f %8.2f %8.1f %8.1f %8.1f %9.4f %6.1f %6.1f %6.1f %16s\n",
                         r.particles, t, frames / r.seconds, r.third_fps[0], r.third_fps[1], r.third_fps[2],
                         r.substeps, r.divergence, r.density, 100.0 * r.max_error, r.share[0], r.share[1],
-                        r.share[2]);
+                        r.share[2], rivulet::hash_hex(r.hash).c_str());
             std::fflush(stdout);
         }
     }
