@@ -148,7 +148,7 @@ constexpr float kDensityCatchUp = 0.004f;
 constexpr float kWarmStart = 0.8f;
 
 std::size_t default_chunks(std::size_t max_particles) {
-    return std::clamp<std::size_t>((max_particles + 4095) / 4096, 1, 32);
+    return std::clamp<std::size_t>((max_particles + 1023) / 1024, 1, 64);
 }
 
 // Cells h wide over the tank plus one cell all round (particles outside go to border cells); 0 when an
