@@ -9,6 +9,9 @@ namespace rivulet {
 struct ConstPositions {
     std::span<const float> x, y, z;
     std::size_t size() const { return x.size(); }
+    ConstPositions subspan(std::size_t begin, std::size_t count) const {
+        return {x.subspan(begin, count), y.subspan(begin, count), z.subspan(begin, count)};
+    }
 };
 
 struct ParticleSpans {

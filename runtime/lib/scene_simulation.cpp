@@ -1,5 +1,6 @@
 #include "runtime/lib/scene_simulation.h"
 
+#include "jobs/particle_chunks.h"
 #include "systems/scenes/scene_validation.h"
 #include "systems/sim/sph_scenes.h"
 
@@ -11,7 +12,7 @@ namespace rivulet {
 namespace {
 
 // Particles per integrate item: large enough to amortise scheduling, small enough to balance 8k.
-constexpr std::size_t kSimChunk = 4096;
+constexpr ParticleChunks kSimChunks{};
 
 }  // namespace
 
@@ -102,10 +103,10 @@ FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,
             sph_phase_jobs_.push_back(graph.nested(phase.name, body));
     } else {
         body = graph.parallel(
-            "simulate.integrate", [this] { return (particles_.size() + kSimChunk - 1) / kSimChunk; },
+            "simulate.integrate", [this] { return kSimChunks.count(particles_.size()); },
             [this](std::size_t c) {
-                const std::size_t b = c * kSimChunk;
-                stream_->integrate(particles_, b, std::min(particles_.size(), b + kSimChunk));
+                const ParticleRange r = kSimChunks.range(c, particles_.size());
+                stream_->integrate(particles_, r.begin, r.end());
             },
             {begin});
     }

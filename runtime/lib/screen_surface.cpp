@@ -25,7 +25,7 @@ ScreenSurface::ScreenSurface(const ScreenFluidSettings& settings, std::size_t ma
     grid_.bucket_bits = SprayGrid::bits_for(max_particles);
     // The chunk size depends on the scene only, so the chunks (and the sort) are the same at any thread
     // count.
-    spray_chunk_ = std::max(kMinSprayChunk, (max_particles + kMaxSprayChunks - 1) / kMaxSprayChunks);
+    spray_chunking_ = ParticleChunks::at_most(max_particles, kMaxSprayChunks);
     const std::size_t buckets = grid_.buckets(), n = std::max<std::size_t>(max_particles, 1);
     for (Staged& s : staged_) s.sx.reserve(n), s.sy.reserve(n), s.sz.reserve(n);
     keys_.reserve(n), neighbours_.reserve(n);
@@ -49,23 +49,23 @@ FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<Const
 }
 
 ConstPositions ScreenSurface::staged_chunk(const Staged& s, std::size_t c) const {
-    const std::size_t begin = std::min(c * spray_chunk_, s.count);
-    const std::size_t end = std::min(begin + spray_chunk_, s.count);
-    return {s.x.span(end).subspan(begin), s.y.span(end).subspan(begin), s.z.span(end).subspan(begin)};
+    const ParticleRange r = spray_chunking_.range(c, s.count);
+    return ConstPositions{s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)}.subspan(r.begin, r.count);
 }
 
 FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::function<int()>& slot,
                                                 FrameGraph::JobId after) {
     const std::size_t buckets = grid_.buckets();
     const auto chunks = [this, slot] { return spray_chunks(staged_[slot()].count); };
-    const FrameGraph::JobId cells = graph.parallel(
-        "screen.spray_grid", chunks,
-        [this, slot, buckets](std::size_t c) {
-            const ConstPositions p = staged_chunk(staged_[slot()], c);
-            spray_grid_chunk(grid_, p, keys_.span(c * spray_chunk_ + p.size()).subspan(c * spray_chunk_),
-                             bucket_counts_.span((c + 1) * buckets).subspan(c * buckets));
-        },
-        {after});
+    const FrameGraph::JobId cells =
+        graph.parallel("screen.spray_grid", chunks,
+                       [this, slot, buckets](std::size_t c) {
+                           const ConstPositions p = staged_chunk(staged_[slot()], c);
+                           const std::size_t at = c * spray_chunking_.size;
+                           spray_grid_chunk(grid_, p, keys_.span(at + p.size()).subspan(at),
+                                            bucket_counts_.span((c + 1) * buckets).subspan(c * buckets));
+                       },
+                       {after});
     const FrameGraph::JobId offsets =
         graph.serial("screen.spray_offsets",
                      [this, slot, buckets] {
@@ -75,23 +75,24 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
                                             bucket_start_.span(buckets + 1));
                      },
                      {cells});
-    const FrameGraph::JobId scatter = graph.parallel(
-        "screen.spray_scatter", chunks,
-        [this, slot, buckets](std::size_t c) {
-            const Staged& s = staged_[slot()];
-            const ConstPositions p = staged_chunk(s, c);
-            spray_scatter_chunk(grid_, p, keys_.span(c * spray_chunk_ + p.size()).subspan(c * spray_chunk_),
-                                cursors_.span((c + 1) * buckets).subspan(c * buckets),
-                                {cell_x_.span(s.count), cell_y_.span(s.count), cell_z_.span(s.count),
-                                 cell_key_.span(s.count)});
-        },
-        {offsets});
+    const FrameGraph::JobId scatter =
+        graph.parallel("screen.spray_scatter", chunks,
+                       [this, slot, buckets](std::size_t c) {
+                           const Staged& s = staged_[slot()];
+                           const ConstPositions p = staged_chunk(s, c);
+                           const std::size_t at = c * spray_chunking_.size;
+                           spray_scatter_chunk(grid_, p, keys_.span(at + p.size()).subspan(at),
+                                               cursors_.span((c + 1) * buckets).subspan(c * buckets),
+                                               {cell_x_.span(s.count), cell_y_.span(s.count),
+                                                cell_z_.span(s.count), cell_key_.span(s.count)});
+                       },
+                       {offsets});
     const FrameGraph::JobId count = graph.parallel(
         "screen.spray_count", chunks,
         [this, slot, buckets](std::size_t c) {
             const Staged& s = staged_[slot()];
             const ConstPositions p = staged_chunk(s, c);
-            const std::size_t at = c * spray_chunk_;
+            const std::size_t at = c * spray_chunking_.size;
             const SprayCells sorted{bucket_start_.span(buckets + 1), cell_x_.span(s.count),
                                     cell_y_.span(s.count), cell_z_.span(s.count), cell_key_.span(s.count)};
             chunk_fluid_[c] = spray_count_chunk(grid_, sorted, p, keys_.span(at + p.size()).subspan(at),
@@ -110,7 +111,7 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
             fluid += fluid_before;
             if (c == 0) s.fluid = fluid;
             const ConstPositions p = staged_chunk(s, c);
-            const std::size_t at = c * spray_chunk_;
+            const std::size_t at = c * spray_chunking_.size;
             const SprayPositionsOut out{s.sx.span(s.count), s.sy.span(s.count), s.sz.span(s.count)};
             spray_split_chunk(p, neighbours_.span(at + p.size()).subspan(at),
                               static_cast<std::uint32_t>(settings_.spray_neighbours), fluid_before,

@@ -5,6 +5,7 @@
 // by their neighbour counts (jobs/spray_split.h) into the water and the spray the pass draws as sprites.
 #include <algorithm>
 
+#include "jobs/particle_chunks.h"
 #include "jobs/spray_split.h"
 #include "runtime/lib/surface_system.h"
 #include "systems/particles/aligned_array.h"
@@ -15,9 +16,9 @@ namespace rivulet {
 class ScreenSurface final : public SurfaceSystem {
   public:
     static constexpr std::size_t kChunk = 16384;  // particles per staging item
-    // The spray jobs' chunks are at least this large and at most kMaxSprayChunks per frame: every chunk
-    // keeps a row of bucket counts, so their number bounds the scratch and the prefix pass.
-    static constexpr std::size_t kMinSprayChunk = 4096, kMaxSprayChunks = 32;
+    // The spray jobs' chunks number at most kMaxSprayChunks per frame: every chunk keeps a row of bucket
+    // counts, so their number bounds the scratch and the prefix pass.
+    static constexpr std::size_t kMaxSprayChunks = 32;
 
     // `particle_radius` (the scene's) scales the spray's search distance; spray needs it to be > 0.
     // Throws std::invalid_argument on bad settings.
@@ -43,7 +44,7 @@ class ScreenSurface final : public SurfaceSystem {
     };
     bool spray() const { return settings_.spray_neighbours > 0; }
     std::size_t spray_chunks(std::size_t n) const {
-        return std::max<std::size_t>((n + spray_chunk_ - 1) / spray_chunk_, 1);
+        return std::max<std::size_t>(spray_chunking_.count(n), 1);
     }
     ConstPositions staged_chunk(const Staged& s, std::size_t c) const;
     FrameGraph::JobId add_spray_jobs(FrameGraph& graph, const std::function<int()>& slot,
@@ -55,7 +56,7 @@ class ScreenSurface final : public SurfaceSystem {
 
     // Spray scratch, shared by the slots (one frame's jobs run at a time).
     SprayGrid grid_;
-    std::size_t spray_chunk_ = kMinSprayChunk;
+    ParticleChunks spray_chunking_;
     AlignedArray<std::uint64_t> keys_;
     AlignedArray<std::uint32_t> bucket_counts_, cursors_, bucket_start_, neighbours_;
     AlignedArray<float> cell_x_, cell_y_, cell_z_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "jobs/mesh_hash.h"
+#include "jobs/particle_chunks.h"
 #include "systems/render/renderer.h"
 
 namespace rivulet {
@@ -68,13 +69,13 @@ FrameGraph::JobId SpritesSurface::add_jobs(FrameGraph& graph, std::function<Cons
             {prefix});
     }
     return graph.parallel(
-        "sprites.stage", [this] { return (frame_.size() + kChunk - 1) / kChunk; },
+        "sprites.stage", [this] { return ParticleChunks{kChunk}.count(frame_.size()); },
         [this, slot, sorted](std::size_t c) {
             Staged& s = staged_[slot()];
-            const std::size_t end = std::min(frame_.size(), (c + 1) * kChunk);
+            const ParticleRange r = ParticleChunks{kChunk}.range(c, frame_.size());
             DiffuseSprite* out = s.sprites.data();
             const std::uint32_t* order = order_.data();
-            for (std::size_t k = c * kChunk; k < end; ++k) out[k] = frame_[sorted ? order[k] : k];
+            for (std::size_t k = r.begin; k < r.end(); ++k) out[k] = frame_[sorted ? order[k] : k];
         },
         {last});
 }

@@ -31,7 +31,7 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
     if (entry_capacity_ >= (std::size_t(1) << 31))
         throw std::invalid_argument(
             "particles x cross-sections per particle reach 2^31 bin entries: lower --v or --radius");
-    max_chunks_ = static_cast<std::uint32_t>((max_particles + kChunk - 1) / kChunk);
+    max_chunks_ = static_cast<std::uint32_t>(kChunks.count(max_particles));
     // Everything below and prepare_output reserve, estimated first: a pool far beyond memory (say
     // --max-groups 100000) is refused with its cause instead of failing as std::bad_alloc.
     const std::size_t max_row = (settings.max_groups + kGroupRowAlign - 1) / kGroupRowAlign * kGroupRowAlign;
@@ -89,17 +89,17 @@ void ScanConverter::begin_frame(ConstPositions p) {
         throw std::length_error("scan conversion capacity " + std::to_string(max_particles_) +
                                 " exceeded by " + std::to_string(p.size()) + " particles");
     particles_ = p.size();
-    chunks_ = static_cast<std::uint32_t>((particles_ + kChunk - 1) / kChunk);
+    chunks_ = static_cast<std::uint32_t>(kChunks.count(particles_));
     grouping_ = {};
     pieces_ = 0;
 }
 
 void ScanConverter::bin_count(ConstPositions p, std::uint32_t chunk) {
-    const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
+    const ParticleRange r = kChunks.range(chunk, particles_);
     bin_count_chunk(
-        grid_, p.y.subspan(begin, end - begin),
+        grid_, p.y.subspan(r.begin, r.count),
         chunk_counts_.span(chunk_counts_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins),
-        particle_bins(begin, end - begin));
+        particle_bins(r.begin, r.count));
 }
 
 ParticleBins ScanConverter::particle_bins(std::size_t begin, std::size_t n) {
@@ -114,11 +114,9 @@ void ScanConverter::bin_prefix() {
 }
 
 void ScanConverter::bin_scatter(ConstPositions p, std::uint32_t chunk) {
-    const std::size_t begin = std::size_t(chunk) * kChunk, end = std::min(particles_, begin + kChunk);
-    const std::size_t n = end - begin;
+    const ParticleRange r = kChunks.range(chunk, particles_);
     bin_scatter_chunk(
-        {p.x.subspan(begin, n), p.y.subspan(begin, n), p.z.subspan(begin, n)},
-        static_cast<std::uint32_t>(begin), particle_bins(begin, n),
+        p.subspan(r.begin, r.count), static_cast<std::uint32_t>(r.begin), particle_bins(r.begin, r.count),
         chunk_cursors_.span(chunk_cursors_.capacity()).subspan(std::size_t(chunk) * grid_.bins, grid_.bins),
         {bin_entries_.span(entry_capacity_), entry_x_.span(entry_capacity_), entry_y_.span(entry_capacity_),
          entry_z_.span(entry_capacity_)});

@@ -18,6 +18,7 @@
 #include "jobs/cylinder_layout.h"
 #include "jobs/deform_cylinder.h"
 #include "jobs/grouping.h"
+#include "jobs/particle_chunks.h"
 #include "jobs/particle_spans.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/scan/scan_output.h"
@@ -27,7 +28,7 @@ namespace rivulet {
 
 class ScanConverter {
   public:
-    static constexpr std::uint32_t kChunk = 4096;  // particles per bin-sort chunk
+    static constexpr ParticleChunks kChunks{};  // the bin sort's chunks
     // Rings per piece: deformation and normals run per piece of a cylinder, not per cylinder, so one
     // long stream still spreads over every worker and pieces of unequal groups balance.
     static constexpr std::uint32_t kRingsPerPiece = 16;

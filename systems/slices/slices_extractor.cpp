@@ -181,7 +181,7 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
         throw std::length_error(
             fmt::format("marching slices capacity {} exceeded by {} particles", max_particles_, p.size()));
     particles_ = p.size();
-    chunks_ = static_cast<std::uint32_t>((particles_ + kChunk - 1) / kChunk);
+    chunks_ = static_cast<std::uint32_t>(kChunks.count(particles_));
     stats_ = {};
     active_count_ = 0;
     entries_ = 0;
@@ -249,10 +249,9 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
 }
 
 void SlicesExtractor::block_count(ConstPositions p, std::uint32_t chunk) {
-    const std::size_t begin = std::size_t(chunk) * kChunk, n = std::min(particles_, begin + kChunk) - begin;
+    const ParticleRange r = kChunks.range(chunk, particles_);
     const std::size_t blocks = grid_.blocks();
-    const ConstPositions c = centres(p);
-    block_count_chunk(grid_, {c.x.subspan(begin, n), c.y.subspan(begin, n), c.z.subspan(begin, n)},
+    block_count_chunk(grid_, centres(p).subspan(r.begin, r.count),
                       chunk_counts_.span(std::size_t(chunks_) * blocks).subspan(chunk * blocks, blocks));
 }
 
@@ -303,11 +302,9 @@ void SlicesExtractor::block_prefix() {
 }
 
 void SlicesExtractor::block_scatter(ConstPositions p, std::uint32_t chunk) {
-    const std::size_t begin = std::size_t(chunk) * kChunk, n = std::min(particles_, begin + kChunk) - begin;
+    const ParticleRange r = kChunks.range(chunk, particles_);
     const std::size_t blocks = grid_.blocks();
-    const ConstPositions c = centres(p);
-    block_scatter_chunk(grid_, {c.x.subspan(begin, n), c.y.subspan(begin, n), c.z.subspan(begin, n)},
-                        static_cast<std::uint32_t>(begin),
+    block_scatter_chunk(grid_, centres(p).subspan(r.begin, r.count), static_cast<std::uint32_t>(r.begin),
                         chunk_cursors_.span(std::size_t(chunks_) * blocks).subspan(chunk * blocks, blocks),
                         {block_entries_.span(entries_), entry_x_.span(entries_), entry_y_.span(entries_),
                          entry_z_.span(entries_)});

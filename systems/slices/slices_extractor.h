@@ -32,6 +32,7 @@
 #include "jobs/cell_hash.h"
 #include "jobs/lookup_cache.h"
 #include "jobs/marching_slices.h"
+#include "jobs/particle_chunks.h"
 #include "jobs/particle_spans.h"
 #include "jobs/slice_field.h"
 #include "systems/particles/aligned_array.h"
@@ -51,7 +52,7 @@ struct SlicesStats {
 
 class SlicesExtractor {
   public:
-    static constexpr std::uint32_t kChunk = 4096;  // particles per block-sort chunk
+    static constexpr ParticleChunks kChunks{};  // the block sort's chunks
 
     // Throws std::invalid_argument when settings.validate() fails.
     SlicesExtractor(const SlicesSettings& settings, std::size_t max_particles);

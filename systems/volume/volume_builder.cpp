@@ -42,7 +42,7 @@ VolumeBuilder::VolumeBuilder(const VolumeSettings& settings, std::size_t max_par
     if (const std::string problem = settings.validate(); !problem.empty())
         throw std::invalid_argument(problem);
     iso_ = settings.iso_value();
-    chunk_ = std::max(kMinChunk, (max_particles + kMaxChunks - 1) / kMaxChunks);
+    chunking_ = ParticleChunks::at_most(max_particles, kMaxChunks);
     const std::size_t per_axis = settings.max_dim / kBrickCells;
     max_grid_bricks_ = per_axis * per_axis * per_axis;
     const std::size_t groups_per_axis = (per_axis + kGroupBricks - 1) / kGroupBricks;
@@ -65,13 +65,13 @@ void VolumeBuilder::prepare(DensityVolume& out) const {
 }
 
 std::size_t VolumeBuilder::chunks(std::size_t n) const {
-    return std::max<std::size_t>((n + chunk_ - 1) / chunk_, 1);
+    return std::max<std::size_t>(chunking_.count(n), 1);
 }
 
 ConstPositions VolumeBuilder::chunk(ConstPositions p, std::size_t c) const {
     const std::size_t n = std::min(p.size(), max_particles_);
-    const std::size_t begin = std::min(c * chunk_, n), count = std::min(chunk_, n - begin);
-    return {p.x.subspan(begin, count), p.y.subspan(begin, count), p.z.subspan(begin, count)};
+    const ParticleRange r = chunking_.range(c, n);
+    return p.subspan(r.begin, r.count);
 }
 
 void VolumeBuilder::bounds_chunk(ConstPositions p, std::size_t c) {

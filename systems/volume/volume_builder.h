@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "jobs/density_splat.h"
+#include "jobs/particle_chunks.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/volume/volume_settings.h"
 
@@ -28,7 +29,7 @@ struct DensityVolume {
 
 class VolumeBuilder {
   public:
-    static constexpr std::size_t kMinChunk = 4096, kMaxChunks = 16;
+    static constexpr std::size_t kMaxChunks = 16;
     static constexpr std::size_t kSplatGroups = 1;  // brick groups (jobs/density_splat.h) per splat item
 
     // Throws std::invalid_argument on bad settings.
@@ -57,7 +58,7 @@ class VolumeBuilder {
     VolumeSettings settings_;
     float iso_ = 0;  // settings_.iso_value(): the calibration sums a lattice, once rather than per frame
     std::size_t max_particles_;
-    std::size_t chunk_ = kMinChunk;
+    ParticleChunks chunking_;
     std::size_t max_grid_bricks_ = 0, max_groups_ = 0;
     std::array<ParticleBounds, kMaxChunks> chunk_bounds_{};
     std::size_t frame_chunks_ = 0, frame_groups_ = 0;
