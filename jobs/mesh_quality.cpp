@@ -24,7 +24,7 @@ MeshQuality mesh_quality(std::span<const float> vertices, std::size_t stride,
     std::vector<double> angles, ratios;
     angles.reserve(q.triangles), ratios.reserve(q.triangles);
     for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
-        double p[3][3];
+        double p[3][3] = {};
         bool in_range = true;
         for (int c = 0; c < 3; ++c) {
             const std::uint32_t v = indices[t + std::size_t(c)];
@@ -32,7 +32,7 @@ MeshQuality mesh_quality(std::span<const float> vertices, std::size_t stride,
             for (int a = 0; a < 3 && in_range; ++a)
                 p[c][a] = vertices[std::size_t(v) * stride + std::size_t(a)];
         }
-        double len[3];  // edge c is opposite corner c
+        double len[3] = {0, 0, 0};  // edge c is opposite corner c; read only when in range
         for (int c = 0; c < 3 && in_range; ++c) {
             const double* a = p[(c + 1) % 3];
             const double* b = p[(c + 2) % 3];
