@@ -1,6 +1,6 @@
 #include "runtime/lib/scene_simulation.h"
 
-#include "jobs/particle_chunks.h"
+#include "runtime/lib/simulation_jobs.h"
 #include "systems/scenes/scene_validation.h"
 #include "systems/sim/sph_scenes.h"
 
@@ -9,12 +9,6 @@
 #include <string>
 
 namespace rivulet {
-namespace {
-
-// Particles per integrate item: large enough to amortise scheduling, small enough to balance 8k.
-constexpr ParticleChunks kSimChunks{};
-
-}  // namespace
 
 SceneSimulation::SceneSimulation(const SceneDesc& scene, InputSource inputs)
     : scene_(scene), inputs_(std::move(inputs)) {
@@ -61,55 +55,13 @@ void SceneSimulation::end_frame() {
     next_frame_ = last_frame_ + 1;
 }
 
-// The frame's phases in the order the simulation asks for them (substeps, solver iterations);
-// `run_items(phase, n, item)` runs items [0, n) of a phase.
-template <class RunItems>
-void SceneSimulation::sph_substeps(RunItems&& run_items) {
-    const auto phases = sph_->phases();
-    for (std::size_t p = sph_->next_phase(); p != SphSimulation::kPhaseCount; p = sph_->next_phase())
-        run_items(p, phases[p].parallel ? sph_->chunks() : std::size_t{1},
-                  [this, p](std::size_t c) { sph_->run_phase(p, c, particles_); });
-}
-
 FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,
                                             std::initializer_list<FrameGraph::JobId> after) {
     const auto begin = graph.serial(
         "simulate.begin", [this] { begin_frame(); }, after);
-    FrameGraph::JobId body = 0;
-    if (diffuse_) {
-        DiffuseSimulation& d = *diffuse_;
-        const auto update = graph.parallel(
-            "diffuse.update", [this] { return diffuse_->update_blocks(particles_); },
-            [this](std::size_t b) { diffuse_->update_block(b, particles_); }, {begin});
-        const auto compact =
-            graph.serial("diffuse.compact", [this] { diffuse_->compact(particles_); }, {update});
-        const auto count = graph.parallel(
-            "diffuse.emit_count", [&d] { return d.emit_blocks(); },
-            [this](std::size_t b) { diffuse_->emit_count_block(b, particles_); }, {compact});
-        const auto offsets =
-            graph.serial("diffuse.emit_offsets", [this] { diffuse_->emit_offsets(particles_); }, {count});
-        body = graph.parallel(
-            "diffuse.emit", [&d] { return d.emit_blocks(); },
-            [this](std::size_t b) { diffuse_->emit_block(b, particles_); }, {offsets});
-    } else if (sph_) {
-        body = graph.serial("simulate.sph",
-                            [this, &graph] {
-                                sph_substeps([this, &graph](std::size_t p, std::size_t n, const auto& item) {
-                                    graph.run_nested(sph_phase_jobs_[p], n, item);
-                                });
-                            },
-                            {begin});
-        for (const SphPhase& phase : sph_->phases())
-            sph_phase_jobs_.push_back(graph.nested(phase.name, body));
-    } else {
-        body = graph.parallel(
-            "simulate.integrate", [this] { return kSimChunks.count(particles_.size()); },
-            [this](std::size_t c) {
-                const ParticleRange r = kSimChunks.range(c, particles_.size());
-                stream_->integrate(particles_, r.begin, r.end());
-            },
-            {begin});
-    }
+    const FrameGraph::JobId body = diffuse_ ? add_diffuse_jobs(graph, *diffuse_, particles_, begin)
+                                   : sph_   ? add_sph_jobs(graph, *sph_, particles_, begin)
+                                            : add_stream_jobs(graph, *stream_, particles_, begin);
     return graph.serial("simulate.end", [this] { end_frame(); }, {body});
 }
 
@@ -125,9 +77,10 @@ void SceneSimulation::step_serial(int frames) {
             diffuse_->emit_offsets(particles_);
             for (std::size_t b = 0; b < diffuse_->emit_blocks(); ++b) diffuse_->emit_block(b, particles_);
         } else if (sph_) {
-            sph_substeps([](std::size_t, std::size_t n, const auto& item) {
-                for (std::size_t c = 0; c < n; ++c) item(c);
-            });
+            const auto phases = sph_->phases();
+            for (std::size_t p = sph_->next_phase(); p != SphSimulation::kPhaseCount; p = sph_->next_phase())
+                for (std::size_t c = 0; c < (phases[p].parallel ? sph_->chunks() : std::size_t{1}); ++c)
+                    sph_->run_phase(p, c, particles_);
         } else {
             stream_->integrate(particles_, 0, particles_.size());
         }

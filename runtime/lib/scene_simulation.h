@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <vector>
 
 #include "runtime/lib/frame_graph.h"
 #include "systems/diffuse/diffuse_simulation.h"
@@ -27,12 +26,9 @@ class SceneSimulation {
     SceneSimulation(const SceneDesc& scene, InputSource inputs = {});
     ~SceneSimulation();
 
-    // Adds the simulation's jobs after `after`; returns the last. Streams: simulate.begin ->
-    // simulate.integrate* -> simulate.end. SPH: simulate.begin -> simulate.sph (its substeps, each running
-    // the nested jobs sph.grid_count*, ..., sph.integrate*) -> simulate.end. Diffuse: simulate.begin ->
-    // diffuse.update* -> diffuse.compact -> diffuse.emit_count* -> diffuse.emit_offsets -> diffuse.emit*
-    // -> simulate.end. Each run of the graph
-    // simulates frame next_frame() and then advances it.
+    // Adds the simulation's jobs after `after`: simulate.begin, the system's own jobs
+    // (runtime/lib/simulation_jobs.h), simulate.end, which it returns. Each run of the graph simulates
+    // frame next_frame() and then advances it.
     FrameGraph::JobId add_jobs(FrameGraph& graph, std::initializer_list<FrameGraph::JobId> after = {});
     // Simulates `frames` frames serially (warm-up; tools).
     void step_serial(int frames);
@@ -54,8 +50,6 @@ class SceneSimulation {
   private:
     void begin_frame();
     void end_frame();
-    template <class RunItems>
-    void sph_substeps(RunItems&& run_items);
 
     SceneDesc scene_;
     InputSource inputs_;
@@ -64,7 +58,6 @@ class SceneSimulation {
     std::unique_ptr<SphSimulation> sph_;
     std::unique_ptr<DiffuseSimulation> diffuse_;
     int substeps_ = 0;
-    std::vector<FrameGraph::JobId> sph_phase_jobs_;
     std::uint64_t next_frame_ = 0, last_frame_ = 0;
     FrameInputs last_inputs_;
 };
