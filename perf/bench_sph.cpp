@@ -6,7 +6,8 @@
 // share of time in neighbour work (grid sort and lists), solver iterations and the rest, and the hash of
 // the last frame's particles (positions, velocities, ids), which must be the same at every thread count.
 //   bench_sph [--quick] [--frames N] [--sizes 8000,24000] [--threads 1,2] [--solver dfsph|wcsph]
-//             [--cfl X]
+//             [--cfl X] [--chunks N]
+// --chunks: pieces per parallel phase (0: the simulation's own choice, SphSimulation's constructor).
 // --quick: 8k and 24k, 60 frames. Defaults: 8k, 24k, 64k, 256k; 180 frames (3 s); threads 1 and 2.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -67,9 +68,9 @@ struct Row {
     std::uint64_t hash = 0;  // of the last frame's particles
 };
 
-Row run(const rivulet::SphDesc& desc, int threads, int frames) {
+Row run(const rivulet::SphDesc& desc, int threads, int frames, std::size_t chunks) {
     const std::size_t n = rivulet::sph_seed_count(desc);
-    SphSimulation sim(desc, n);
+    SphSimulation sim(desc, n, chunks);
     rivulet::ParticleSet ps(n);
     sim.seed(ps);
     tbb::task_arena arena(threads);
@@ -122,6 +123,7 @@ int main(int argc, char** argv) try {
     int frames = 180;
     rivulet::SphSolver solver = rivulet::SphSolver::kDfsph;
     float cfl = 0;
+    long chunks = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const bool more = i + 1 < argc;
@@ -138,10 +140,12 @@ int main(int argc, char** argv) try {
                 std::string(argv[++i]) == "wcsph" ? rivulet::SphSolver::kWcsph : rivulet::SphSolver::kDfsph;
         } else if (a == "--cfl" && more) {
             cfl = static_cast<float>(std::atof(argv[++i]));
+        } else if (a == "--chunks" && more) {
+            chunks = std::max(0L, std::atol(argv[++i]));
         } else {
             std::fprintf(stderr,
                          "usage: bench_sph [--quick] [--frames N] [--sizes a,b] [--threads a,b] "
-                         "[--solver dfsph|wcsph] [--cfl X]\n");
+                         "[--solver dfsph|wcsph] [--cfl X] [--chunks N]\n");
             return 2;
         }
     }
@@ -155,7 +159,7 @@ int main(int argc, char** argv) try {
         desc.solver = solver;
         if (cfl > 0) desc.cfl = cfl;
         for (long t : threads) {
-            const Row r = run(desc, int(t), frames);
+            const Row r = run(desc, int(t), frames, std::size_t(chunks));
             std::printf("%9zu %7ld %8.2f %8.2f %8.2f %8.2f %8.1f %8.1f %8.1f %9.4f %6.1f %6.1f %6.1f %16s\n",
                         r.particles, t, frames / r.seconds, r.third_fps[0], r.third_fps[1], r.third_fps[2],
                         r.substeps, r.divergence, r.density, 100.0 * r.max_error, r.share[0], r.share[1],
