@@ -77,10 +77,7 @@ void SceneSimulation::step_serial(int frames) {
             diffuse_->emit_offsets(particles_);
             for (std::size_t b = 0; b < diffuse_->emit_blocks(); ++b) diffuse_->emit_block(b, particles_);
         } else if (sph_) {
-            const auto phases = sph_->phases();
-            for (std::size_t p = sph_->next_phase(); p != SphSimulation::kPhaseCount; p = sph_->next_phase())
-                for (std::size_t c = 0; c < (phases[p].parallel ? sph_->chunks() : std::size_t{1}); ++c)
-                    sph_->run_phase(p, c, particles_);
+            sph_->run_phases_serial(particles_);
         } else {
             stream_->integrate(particles_, 0, particles_.size());
         }

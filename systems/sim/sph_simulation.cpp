@@ -592,12 +592,16 @@ void SphSimulation::end_frame(ParticleSet&) {
     time_ += desc_.dt;
 }
 
-void SphSimulation::step_serial(ParticleSet& ps, std::uint64_t frame) {
-    begin_frame(ps, frame);
+void SphSimulation::run_phases_serial(ParticleSet& ps) {
     for (std::size_t p = next_phase(); p != kPhaseCount; p = next_phase()) {
         const std::size_t n = kPhases[p].parallel ? chunks_ : 1;
         for (std::size_t c = 0; c < n; ++c) run_phase(p, c, ps);
     }
+}
+
+void SphSimulation::step_serial(ParticleSet& ps, std::uint64_t frame) {
+    begin_frame(ps, frame);
+    run_phases_serial(ps);
     end_frame(ps);
 }
 

@@ -96,6 +96,8 @@ class SphSimulation {
     std::size_t chunks() const { return chunks_; }
     void run_phase(std::size_t phase, std::size_t chunk, ParticleSet& ps);
     void end_frame(ParticleSet& ps);
+    // Between begin_frame and end_frame: every phase of the frame, each chunk in turn, on this thread.
+    void run_phases_serial(ParticleSet& ps);
 
     void step_serial(ParticleSet& ps, std::uint64_t frame);
     void step_parallel(ParticleSet& ps, std::uint64_t frame);  // chunks via tbb::parallel_for
