@@ -48,8 +48,7 @@ FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<Const
     return spray() ? add_spray_jobs(graph, slot, stage) : stage;
 }
 
-ConstPositions ScreenSurface::staged_chunk(const Staged& s, std::size_t c) const {
-    const ParticleRange r = spray_chunking_.range(c, s.count);
+ConstPositions ScreenSurface::staged_positions(const Staged& s, ParticleRange r) const {
     return ConstPositions{s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)}.subspan(r.begin, r.count);
 }
 
@@ -60,8 +59,10 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
     const FrameGraph::JobId cells =
         graph.parallel("screen.spray_grid", chunks,
                        [this, slot, buckets](std::size_t c) {
-                           const ConstPositions p = staged_chunk(staged_[slot()], c);
-                           const std::size_t at = c * spray_chunking_.size;
+                           const Staged& s = staged_[slot()];
+                           const ParticleRange r = spray_chunking_.range(c, s.count);
+                           const ConstPositions p = staged_positions(s, r);
+                           const std::size_t at = r.begin;
                            spray_grid_chunk(grid_, p, keys_.span(at + p.size()).subspan(at),
                                             bucket_counts_.span((c + 1) * buckets).subspan(c * buckets));
                        },
@@ -79,8 +80,9 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
         graph.parallel("screen.spray_scatter", chunks,
                        [this, slot, buckets](std::size_t c) {
                            const Staged& s = staged_[slot()];
-                           const ConstPositions p = staged_chunk(s, c);
-                           const std::size_t at = c * spray_chunking_.size;
+                           const ParticleRange r = spray_chunking_.range(c, s.count);
+                           const ConstPositions p = staged_positions(s, r);
+                           const std::size_t at = r.begin;
                            spray_scatter_chunk(grid_, p, keys_.span(at + p.size()).subspan(at),
                                                cursors_.span((c + 1) * buckets).subspan(c * buckets),
                                                {cell_x_.span(s.count), cell_y_.span(s.count),
@@ -91,8 +93,9 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
         "screen.spray_count", chunks,
         [this, slot, buckets](std::size_t c) {
             const Staged& s = staged_[slot()];
-            const ConstPositions p = staged_chunk(s, c);
-            const std::size_t at = c * spray_chunking_.size;
+            const ParticleRange r = spray_chunking_.range(c, s.count);
+            const ConstPositions p = staged_positions(s, r);
+            const std::size_t at = r.begin;
             const SprayCells sorted{bucket_start_.span(buckets + 1), cell_x_.span(s.count),
                                     cell_y_.span(s.count), cell_z_.span(s.count), cell_key_.span(s.count)};
             chunk_fluid_[c] = spray_count_chunk(grid_, sorted, p, keys_.span(at + p.size()).subspan(at),
@@ -110,8 +113,9 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
             for (std::size_t k = 0; k < n; ++k) (k < c ? fluid_before : fluid) += chunk_fluid_[k];
             fluid += fluid_before;
             if (c == 0) s.fluid = fluid;
-            const ConstPositions p = staged_chunk(s, c);
-            const std::size_t at = c * spray_chunking_.size;
+            const ParticleRange r = spray_chunking_.range(c, s.count);
+            const ConstPositions p = staged_positions(s, r);
+            const std::size_t at = r.begin;
             const SprayPositionsOut out{s.sx.span(s.count), s.sy.span(s.count), s.sz.span(s.count)};
             spray_split_chunk(p, neighbours_.span(at + p.size()).subspan(at),
                               static_cast<std::uint32_t>(settings_.spray_neighbours), fluid_before,
