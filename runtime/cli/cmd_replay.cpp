@@ -7,6 +7,7 @@
 #include "runtime/lib/frame_pipeline.h"
 #include "runtime/lib/recording.h"
 #include "runtime/lib/thread_control.h"
+#include "systems/scenes/scene_limits.h"
 
 namespace rivulet::cli {
 namespace {
@@ -63,7 +64,7 @@ void add_replay_command(CLI::App& app, int& status) {
     cmd->add_option("FILE", opts->file, "Recording file")->required();
     add_threads_option(*cmd, opts->threads, "Threads for TBB (0 = all)");
     cmd->add_option("--frames", opts->frames, "Replay only the first N recorded frames (0 = all)")
-        ->check(CLI::Range(0, 1000000));
+        ->check(CLI::Range(0, kMaxRunFrames));
     cmd->callback([opts, &status] { status = replay(*opts); });
 }
 
