@@ -17,7 +17,11 @@ std::string errno_message(int err) {
     return std::error_code(err, std::generic_category()).message();
 }
 
-InputFile::InputFile(std::string path) : path_(std::move(path)), buffer_(64 * 1024) {
+namespace {
+constexpr std::uint64_t kBufferBytes = 64 * 1024;
+}  // namespace
+
+InputFile::InputFile(std::string path) : path_(std::move(path)) {
     file_.reset(std::fopen(path_.c_str(), "rb"));
     if (!file_) fail("cannot open: " + errno_message(errno));
     struct stat st {};
@@ -27,6 +31,9 @@ InputFile::InputFile(std::string path) : path_(std::move(path)), buffer_(64 * 10
     if (!S_ISREG(st.st_mode)) fail("cannot read: not a regular file");
     if (st.st_size == 0) fail("file is empty");
     size_ = static_cast<std::uint64_t>(st.st_size);
+    // A small file gets a buffer of its own size: readers open many small files (a scene, a sequence
+    // of frames, a fuzzer's millions of inputs), and each would otherwise allocate and zero 64 KiB.
+    buffer_.resize(static_cast<std::size_t>(std::min(size_, kBufferBytes)));
 }
 
 bool InputFile::fill() {
