@@ -69,13 +69,7 @@ void SceneSimulation::step_serial(int frames) {
     for (int i = 0; i < frames; ++i) {
         begin_frame();
         if (diffuse_) {
-            for (std::size_t b = 0; b < diffuse_->update_blocks(particles_); ++b)
-                diffuse_->update_block(b, particles_);
-            diffuse_->compact(particles_);
-            for (std::size_t b = 0; b < diffuse_->emit_blocks(); ++b)
-                diffuse_->emit_count_block(b, particles_);
-            diffuse_->emit_offsets(particles_);
-            for (std::size_t b = 0; b < diffuse_->emit_blocks(); ++b) diffuse_->emit_block(b, particles_);
+            diffuse_->run_phases_serial(particles_);
         } else if (sph_) {
             sph_->run_phases_serial(particles_);
         } else {

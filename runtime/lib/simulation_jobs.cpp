@@ -42,17 +42,17 @@ FrameGraph::JobId add_sph_jobs(FrameGraph& graph, SphSimulation& sph, ParticleSe
 
 FrameGraph::JobId add_diffuse_jobs(FrameGraph& graph, DiffuseSimulation& d, ParticleSet& ps,
                                    FrameGraph::JobId after) {
-    const auto update = graph.parallel(
-        "diffuse.update", [&d, &ps] { return d.update_blocks(ps); },
-        [&d, &ps](std::size_t b) { d.update_block(b, ps); }, {after});
-    const auto compact = graph.serial("diffuse.compact", [&d, &ps] { d.compact(ps); }, {update});
-    const auto count = graph.parallel(
-        "diffuse.emit_count", [&d] { return d.emit_blocks(); },
-        [&d, &ps](std::size_t b) { d.emit_count_block(b, ps); }, {compact});
-    const auto offsets = graph.serial("diffuse.emit_offsets", [&d, &ps] { d.emit_offsets(ps); }, {count});
-    return graph.parallel(
-        "diffuse.emit", [&d] { return d.emit_blocks(); }, [&d, &ps](std::size_t b) { d.emit_block(b, ps); },
-        {offsets});
+    FrameGraph::JobId last = after;
+    for (std::size_t p = 0; p < DiffuseSimulation::kPhaseCount; ++p) {
+        const DiffusePhase& phase = DiffuseSimulation::kPhases[p];
+        if (phase.parallel)
+            last = graph.parallel(
+                phase.job, [&d, &ps, p] { return d.phase_blocks(p, ps); },
+                [&d, &ps, p](std::size_t b) { d.run_phase(p, b, ps); }, {last});
+        else
+            last = graph.serial(phase.job, [&d, &ps, p] { d.run_phase(p, 0, ps); }, {last});
+    }
+    return last;
 }
 
 }  // namespace rivulet

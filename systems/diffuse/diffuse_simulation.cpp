@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include "systems/diffuse/collider_mesh.h"
 
@@ -157,6 +158,33 @@ DiffuseUpdateContext DiffuseSimulation::update_context(ParticleSet& particles) {
     ctx.dead = dead_;
     ctx.dead_count = dead_count_;
     return ctx;
+}
+
+std::size_t DiffuseSimulation::phase_blocks(std::size_t phase, const ParticleSet& particles) const {
+    if (!kPhases[phase].parallel) return 1;
+    return phase == kUpdate ? update_blocks(particles) : emit_blocks();
+}
+
+void DiffuseSimulation::run_phase(std::size_t phase, std::size_t block, ParticleSet& particles) {
+    switch (phase) {
+        case kUpdate:
+            return update_block(block, particles);
+        case kCompact:
+            return compact(particles);
+        case kEmitCount:
+            return emit_count_block(block, particles);
+        case kEmitOffsets:
+            return emit_offsets(particles);
+        case kEmit:
+            return emit_block(block, particles);
+        default:
+            throw std::out_of_range("DiffuseSimulation::run_phase: no phase " + std::to_string(phase));
+    }
+}
+
+void DiffuseSimulation::run_phases_serial(ParticleSet& particles) {
+    for (std::size_t p = 0; p < kPhaseCount; ++p)
+        for (std::size_t b = 0, n = phase_blocks(p, particles); b < n; ++b) run_phase(p, b, particles);
 }
 
 std::size_t DiffuseSimulation::update_blocks(const ParticleSet& particles) const {

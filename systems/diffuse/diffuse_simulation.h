@@ -1,14 +1,15 @@
 #pragma once
 // A diffuse object alive across frames (Juckel & Beckhaus, "Rendering diffuse objects using particle
 // systems inside voxelized surface geometry"): its voxels, its particles' attributes beside the
-// ParticleSet, the density per voxel and the colliders. Each frame runs, in this order:
-//   begin_frame (serial: where the object and colliders are, which voxels colliders block)
-//   update_block for every update block (parallel)        -> diffuse.update
-//   compact (serial: the dead's places filled from the end) -> diffuse.compact
-//   emit_count_block for every emit block (parallel)       -> diffuse.emit_count
-//   emit_offsets (serial)                                  -> diffuse.emit_offsets
-//   emit_block for every emit block (parallel)             -> diffuse.emit
-// Everything is sized at construction; a frame allocates nothing.
+// ParticleSet, the density per voxel and the colliders. Each frame runs begin_frame (serial: where the
+// object and colliders are, which voxels colliders block), then the phases of kPhases in order:
+//   update        parallel over update blocks: ages, forces, moves; the dead marked
+//   compact       serial: the dead's places filled from the end
+//   emit_count    parallel over emit blocks: how many each emitting voxel adds
+//   emit_offsets  serial: where each block's new particles go
+//   emit          parallel over emit blocks: the new particles
+// The frame graph runs each phase as one job named by kPhases (runtime/lib/simulation_jobs.cpp), a serial
+// step as run_phases_serial. Everything is sized at construction; a frame allocates nothing.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -25,8 +26,20 @@ namespace rivulet {
 
 class ColliderMesh;
 
+struct DiffusePhase {
+    const char* job;  // the frame graph's job
+    bool parallel;    // runs for each of its blocks (any order, any thread), else once
+};
+
 class DiffuseSimulation {
   public:
+    enum Phase : std::size_t { kUpdate = 0, kCompact, kEmitCount, kEmitOffsets, kEmit, kPhaseCount };
+    static constexpr std::array<DiffusePhase, kPhaseCount> kPhases = {{{"diffuse.update", true},
+                                                                       {"diffuse.compact", false},
+                                                                       {"diffuse.emit_count", true},
+                                                                       {"diffuse.emit_offsets", false},
+                                                                       {"diffuse.emit", true}}};
+
     // Loads and voxelizes the scene's mesh, builds the colliders; `particles` gets the capacity.
     // Throws std::invalid_argument / std::runtime_error on a bad mesh or attributes.
     DiffuseSimulation(const SceneDesc& scene, ParticleSet& particles);
@@ -34,13 +47,12 @@ class DiffuseSimulation {
 
     // `offset`: the object's displacement from its rest pose at the end of this frame (FrameInputs).
     void begin_frame(ParticleSet& particles, std::uint64_t frame, Vec3f offset);
-    std::size_t update_blocks(const ParticleSet& particles) const;
-    void update_block(std::size_t block, ParticleSet& particles);
-    void compact(ParticleSet& particles);
-    std::size_t emit_blocks() const { return emit_counts_.size(); }
-    void emit_count_block(std::size_t block, ParticleSet& particles);
-    void emit_offsets(ParticleSet& particles);
-    void emit_block(std::size_t block, ParticleSet& particles);
+    // Blocks of `phase` as it starts (the update's depend on how many particles live); 1 when serial.
+    std::size_t phase_blocks(std::size_t phase, const ParticleSet& particles) const;
+    // Every block of a phase finishes before the next phase starts.
+    void run_phase(std::size_t phase, std::size_t block, ParticleSet& particles);
+    // After begin_frame: every phase, each block in turn, on this thread.
+    void run_phases_serial(ParticleSet& particles);
 
     // What the sprite pass draws of each particle, in particle order.
     std::span<const DiffuseSprite> sprites(const ParticleSet& particles) const;
@@ -56,6 +68,13 @@ class DiffuseSimulation {
     Vec3f object_offset() const { return offset_; }
 
   private:
+    std::size_t update_blocks(const ParticleSet& particles) const;
+    void update_block(std::size_t block, ParticleSet& particles);
+    void compact(ParticleSet& particles);
+    std::size_t emit_blocks() const { return emit_counts_.size(); }
+    void emit_count_block(std::size_t block, ParticleSet& particles);
+    void emit_offsets(ParticleSet& particles);
+    void emit_block(std::size_t block, ParticleSet& particles);
     DiffuseUpdateContext update_context(ParticleSet& particles);
     DiffuseEmitContext emit_context(ParticleSet& particles);
     void block_voxels();
