@@ -15,6 +15,7 @@
 #include "systems/io/output_file.h"
 #include "systems/render/video_writer.h"
 #include "systems/scenes/input_track.h"
+#include "systems/scenes/scene_limits.h"
 
 namespace rivulet::cli {
 namespace {
@@ -244,7 +245,7 @@ void add_run_command(CLI::App& app, int& status) {
                     "scene's script (docs/recording.md)");
     cmd->add_option("--timing-warmup", opts->timing_warmup,
                     "Frames rendered first and left out of the medians (benchmarks)")
-        ->check(CLI::Range(0, 1000000));
+        ->check(CLI::Range(0, kMaxRunFrames - 1));  // fewer than --frames, checked in run()
     cmd->add_flag("--no-pipeline", opts->no_pipeline, "Extract frame N+1 only after frame N is rendered");
     cmd->add_flag("--no-render", opts->no_render, "Simulate and extract only (no GL, no pictures)")
         ->excludes(video);
