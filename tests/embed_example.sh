@@ -25,7 +25,11 @@ if grep -E -e '-ffp-contract|-Wconversion|-Wshadow|include/rivulet[" ]|-I[^ ]*/(
 fi
 cmake --build "$work/build" > "$work/build.log" || { cat "$work/build.log"; exit 1; }
 "$work/build/embed" 2 2 | tee "$work/run.log"
-[ "$(grep -c 'triangles, hash' "$work/run.log")" = 2 ] || { echo "FAIL: the example made no meshes"; exit 1; }
+[ "$(grep -c '^frame .*triangles, hash' "$work/run.log")" = 2 ] || { echo "FAIL: the example made no meshes"; exit 1; }
+# The pipelined frames are the same meshes as the serial ones, in the same order.
+if ! diff <(grep '^frame ' "$work/run.log") <(grep '^pipelined frame ' "$work/run.log" | sed 's/^pipelined //'); then
+  echo "FAIL: the frame pipeline gave other meshes than the extractor (above)"; exit 1
+fi
 grep -q 'empty input: no particles to mesh' "$work/run.log" || { echo "FAIL: no rivulet::Error"; exit 1; }
 
 if [ -n "${RIVULET_PYTHON:-}" ]; then

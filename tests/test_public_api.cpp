@@ -2,13 +2,20 @@
 // bytes, from a workspace that is reused, allocation-free once warm, independent of earlier calls and of
 // the thread count; every error a rivulet::Error with the command line's message.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <thread>
 
 #include "rivulet/rivulet.h"
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/mesh_extraction.h"
+#include "runtime/lib/recording.h"
 #include "runtime/lib/scene_simulation.h"
 #include "support/counting_new.h"
 #include "support/test_support.h"
@@ -228,4 +235,125 @@ TEST(PublicApi, SimulationIsTheSceneSimulationAtAnyThreadCount) {
     EXPECT_GT(one.particle_radius(), 0.0f);
     const auto scenes = rivulet::Simulation::builtin_scenes();
     EXPECT_NE(std::find(scenes.begin(), scenes.end(), "dambreak"), scenes.end());
+}
+
+TEST(PublicApi, ReplayReportsARecordedRunAndTheFirstFrameThatDiffers) {
+    const std::string golden = std::string(RIVULET_SOURCE_DIR) + "/tests/golden/faucet_scan.rivrec";
+    const rivulet::ReplayReport same = rivulet::replay(golden, 4, 2);
+    EXPECT_TRUE(same.identical);
+    EXPECT_EQ(same.scene, "faucet");
+    EXPECT_EQ(same.method, "scan");
+    EXPECT_EQ(same.recorded, 100u);
+    EXPECT_EQ(same.frames, 4u);
+
+    // The same recording with its third frame's surface hash changed in one bit.
+    rivulet::Recording rec = rivulet::read_recording(golden);
+    rec.frames[2].surface ^= 1;
+    const std::string tampered = rivulet::test::temp_path("tampered.rivrec");
+    rivulet::write_recording(tampered, rec);
+    const rivulet::ReplayReport diff = rivulet::replay(tampered, 4, 1);
+    EXPECT_FALSE(diff.identical);
+    EXPECT_EQ(diff.frames, 4u);
+    EXPECT_EQ(diff.frame, 2u);
+    EXPECT_EQ(diff.simulation_frame, 30u + 2u);  // after the scene's 30 warm-up frames
+    EXPECT_EQ(diff.buffer, "surface");
+    EXPECT_EQ(diff.recorded_hash, rec.frames[2].surface);
+    EXPECT_EQ(diff.replayed_hash, rec.frames[2].surface ^ 1);
+    std::remove(tampered.c_str());
+
+    EXPECT_THROW(rivulet::replay(tampered), rivulet::Error);  // gone
+    EXPECT_THROW(rivulet::replay(golden, -1), rivulet::Error);
+    EXPECT_THROW(rivulet::replay(golden, 1, -2), rivulet::Error);
+}
+
+namespace {
+
+// Frame f of a host's simulation: a ball that moves along x and changes its jitter.
+std::vector<float> host_frame(std::uint64_t f) {
+    return ball(0.02f, 5, 0.004f * float(f), std::uint32_t(f + 1));
+}
+
+}  // namespace
+
+TEST(PublicApi, SurfacePipelineRendersEveryFrameInOrderWithTheExtractorsMesh) {
+    SurfaceSettings settings;
+    settings.radius = 0.012f;
+    settings.threads = 2;
+    constexpr std::uint64_t kFrames = 6;
+    std::vector<std::uint64_t> expected;
+    SurfaceExtractor reference;
+    for (std::uint64_t f = 0; f < kFrames; ++f)
+        expected.push_back(rivulet::mesh_hash(reference.extract(host_frame(f), settings)));
+
+    for (const bool overlap : {true, false}) {
+        rivulet::SurfacePipeline pipeline(settings);
+        pipeline.set_overlap(overlap);
+        std::vector<std::uint64_t> rendered, hashes;
+        std::atomic<std::uint64_t> stepped{0};
+        std::atomic<bool> overlapped{false};
+        pipeline.run(
+            kFrames,
+            [&](std::uint64_t f, std::vector<float>& xyz) {
+                EXPECT_EQ(f, stepped.load());
+                xyz = host_frame(f);
+                stepped = f + 1;
+            },
+            [&](std::uint64_t f, std::span<const float> xyz, const MeshView& mesh) {
+                rendered.push_back(f);
+                hashes.push_back(rivulet::mesh_hash(mesh));
+                EXPECT_TRUE(std::ranges::equal(xyz, host_frame(f))) << "frame " << f;
+                // With overlap, frame f + 1 is stepped while frame f renders: wait for it (bounded, so a
+                // pipeline that does not overlap fails instead of hanging).
+                if (overlap && f + 1 < kFrames && tbb::this_task_arena::max_concurrency() > 1) {
+                    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+                    while (stepped.load() < f + 2 && std::chrono::steady_clock::now() < until)
+                        std::this_thread::sleep_for(std::chrono::microseconds(100));
+                    if (stepped.load() >= f + 2) overlapped = true;
+                }
+                if (!overlap) {
+                    EXPECT_EQ(stepped.load(), f + 1) << "frame " << f;
+                }
+            });
+        EXPECT_EQ(rendered, (std::vector<std::uint64_t>{0, 1, 2, 3, 4, 5}));
+        EXPECT_EQ(hashes, expected) << (overlap ? "overlapped" : "serial");
+        if (overlap && tbb::this_task_arena::max_concurrency() > 1) {
+            EXPECT_TRUE(overlapped.load());
+        }
+    }
+}
+
+TEST(PublicApi, SurfacePipelineStopsOnTheFirstExceptionAndRunsAgain) {
+    SurfaceSettings settings;
+    settings.radius = 0.012f;
+    rivulet::SurfacePipeline pipeline(settings);
+    std::vector<std::uint64_t> rendered;
+    auto step = [](std::uint64_t f, std::vector<float>& xyz) {
+        if (f == 3) throw std::runtime_error("host simulation failed at frame 3");
+        xyz = host_frame(f);
+    };
+    auto render = [&](std::uint64_t f, std::span<const float>, const MeshView&) { rendered.push_back(f); };
+    try {
+        pipeline.run(10, step, render);
+        ADD_FAILURE() << "the step's exception did not leave run()";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(), "host simulation failed at frame 3");
+    }
+    EXPECT_EQ(rendered, (std::vector<std::uint64_t>{0, 1, 2}));
+
+    // A render that throws, then a step that gives no particles (the extractor's error), then a clean run.
+    rendered.clear();
+    EXPECT_THROW(pipeline.run(
+                     10, [](std::uint64_t f, std::vector<float>& xyz) { xyz = host_frame(f); },
+                     [](std::uint64_t f, std::span<const float>, const MeshView&) {
+                         if (f == 1) throw std::logic_error("render failed");
+                     }),
+                 std::logic_error);
+    EXPECT_THROW(pipeline.run(
+                     4, [](std::uint64_t, std::vector<float>& xyz) { xyz.clear(); }, render),
+                 rivulet::Error);
+    EXPECT_TRUE(rendered.empty());
+    pipeline.run(
+        2, [](std::uint64_t f, std::vector<float>& xyz) { xyz = host_frame(f); }, render);
+    EXPECT_EQ(rendered, (std::vector<std::uint64_t>{0, 1}));
+    EXPECT_THROW(pipeline.run(1, nullptr, render), rivulet::Error);
 }

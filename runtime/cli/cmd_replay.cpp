@@ -4,7 +4,6 @@
 #include "cli/commands.h"
 #include "cli/progress_bar.h"
 #include "jobs/mesh_hash.h"
-#include "runtime/lib/frame_pipeline.h"
 #include "runtime/lib/recording.h"
 #include "runtime/lib/thread_control.h"
 #include "systems/scenes/scene_limits.h"
@@ -19,27 +18,16 @@ struct ReplayOptions {
 };
 
 int replay(const ReplayOptions& o) {
-    Recording rec = read_recording(o.file);
+    const Recording rec = read_recording(o.file);
     const std::size_t recorded = rec.frames.size();
-    if (o.frames > 0 && std::size_t(o.frames) < recorded) rec.frames.resize(std::size_t(o.frames));
     ThreadControl threads(o.threads);
-    PipelineSettings config;
-    config.method = rec.method;
-    config.scan = rec.scan;
-    config.slices = rec.slices;
-    config.volume = rec.volume;
-    config.screen = rec.screen;
-    config.render = false;  // hashes cover the particles and the surface; pictures add nothing to compare
-    config.hash_frames = true;
-    config.inputs = [&rec](std::uint64_t f) { return f < rec.inputs.size() ? rec.inputs[f] : FrameInputs{}; };
-    FramePipeline pipeline(rec.scene, config);
-    pipeline.warmup();
-    const int frames = static_cast<int>(rec.frames.size());
-    pipeline.reserve_records(rec.frames.size());
+    const int frames =
+        o.frames > 0 && std::size_t(o.frames) < recorded ? o.frames : static_cast<int>(recorded);
     ProgressBar bar("replay", frames);
-    pipeline.run(frames, [&bar](int i) { bar.update(i + 1); });
+    const ReplayOutcome outcome =
+        replay_recording(rec, std::size_t(frames), [&bar](int i) { bar.update(i + 1); });
 
-    const auto diverged = first_divergence(rec, pipeline.records());
+    const auto& diverged = outcome.divergence;
     if (!diverged) {
         fmt::print("replay {}: scene {}, method {}, {} of {} frames at {} threads: identical\n", o.file,
                    rec.scene.name, surface_method_name(rec.method), frames, recorded, threads.threads());

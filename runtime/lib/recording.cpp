@@ -166,4 +166,22 @@ std::optional<Divergence> first_divergence(const Recording& recording,
     return std::nullopt;
 }
 
+ReplayOutcome replay_recording(Recording rec, std::size_t frames, const std::function<void(int)>& on_frame) {
+    if (frames > 0 && frames < rec.frames.size()) rec.frames.resize(frames);
+    PipelineSettings config;
+    config.method = rec.method;
+    config.scan = rec.scan;
+    config.slices = rec.slices;
+    config.volume = rec.volume;
+    config.screen = rec.screen;
+    config.render = false;  // hashes cover the particles and the surface; pictures add nothing to compare
+    config.hash_frames = true;
+    config.inputs = [&rec](std::uint64_t f) { return f < rec.inputs.size() ? rec.inputs[f] : FrameInputs{}; };
+    FramePipeline pipeline(rec.scene, config);
+    pipeline.warmup();
+    pipeline.reserve_records(rec.frames.size());
+    pipeline.run(static_cast<int>(rec.frames.size()), on_frame);
+    return {rec.frames.size(), first_divergence(rec, pipeline.records())};
+}
+
 }  // namespace rivulet

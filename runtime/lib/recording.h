@@ -4,6 +4,7 @@
 // particle arrays and of the surface buffers. `rivulet replay` re-runs a recording and names the first
 // frame and buffer that differ.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -57,5 +58,16 @@ struct Divergence {
 
 // The first frame whose particle or surface hash differs (particles first: they are upstream).
 std::optional<Divergence> first_divergence(const Recording& recording, std::span<const FrameRecord> replayed);
+
+struct ReplayOutcome {
+    std::size_t frames = 0;  // recorded frames replayed
+    std::optional<Divergence> divergence;
+};
+
+// Re-runs the recording's first `frames` recorded frames (0: all) without rendering, in the calling
+// thread's TBB arena, and compares their hashes; `on_frame(i)` after replayed frame i. `rivulet replay`
+// and rivulet::replay (include/rivulet/recording.h) both are this.
+ReplayOutcome replay_recording(Recording recording, std::size_t frames,
+                               const std::function<void(int)>& on_frame = {});
 
 }  // namespace rivulet

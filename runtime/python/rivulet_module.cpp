@@ -197,4 +197,26 @@ PYBIND11_MODULE(rivulet, m) {
         "(warmup: None for the scene's own), yielding each frame's positions as an (N, 3) float32 array.");
 
     m.def("scenes", &rivulet::Simulation::builtin_scenes, "The built-in scenes' names.");
+
+    m.def(
+        "replay",
+        [](const std::string& path, int frames, std::optional<int> threads) {
+            rivulet::ReplayReport r;
+            {
+                py::gil_scoped_release unlocked;
+                r = rivulet::replay(path, frames, threads.value_or(0));
+            }
+            py::dict d;
+            d["scene"] = r.scene, d["method"] = r.method, d["recorded"] = r.recorded, d["frames"] = r.frames;
+            d["identical"] = r.identical;
+            if (!r.identical) {
+                d["frame"] = r.frame, d["simulation_frame"] = r.simulation_frame, d["buffer"] = r.buffer;
+                d["recorded_hash"] = r.recorded_hash, d["replayed_hash"] = r.replayed_hash;
+            }
+            return d;
+        },
+        py::arg("path"), py::arg("frames") = 0, py::arg("threads") = py::none(),
+        "Re-runs a recording (`rivulet run --record`) as `rivulet replay` does: its first `frames` recorded\n"
+        "frames (0: all). Returns a dict: scene, method, recorded, frames, identical, and where it is not\n"
+        "identical the first differing frame, simulation_frame, buffer, recorded_hash and replayed_hash.");
 }

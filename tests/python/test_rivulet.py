@@ -105,3 +105,17 @@ def test_errors_carry_the_command_lines_message(tmp_path):
         rivulet.reconstruct(ball(), method="marching")
     with pytest.raises(rivulet.Error, match="no_such_scene"):
         rivulet.simulate("no_such_scene", 1)
+
+
+def test_replay_agrees_with_the_command_line(tmp_path):
+    golden = os.path.join(os.path.dirname(__file__), "..", "golden", "faucet_scan.rivrec")
+    r = rivulet.replay(golden, frames=2, threads=1)
+    assert r["identical"] and r["frames"] == 2 and r["recorded"] == 100
+    assert (r["scene"], r["method"]) == ("faucet", "scan")
+    cut = tmp_path / "cut.rivrec"
+    cut.write_bytes(open(golden, "rb").read()[:-40])
+    c = cli("replay", str(cut))
+    assert c.returncode != 0
+    with pytest.raises(rivulet.Error) as e:
+        rivulet.replay(str(cut))
+    assert str(e.value) == c.stderr.strip().removeprefix("rivulet: error: ")
