@@ -36,7 +36,7 @@ class ObjText {
     }
 
   private:
-    static constexpr std::size_t kFlushAt = 64 * 1024;
+    static constexpr std::size_t kFlushAt = OutputFile::kBufferBytes;  // hands stdio a full buffer
     template <class T>
     void append(T v) {
         char buf[32];

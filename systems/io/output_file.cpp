@@ -16,7 +16,7 @@ OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
     regular_ = ::fstat(::fileno(file_), &st) == 0 && S_ISREG(st.st_mode);
     // The writers emit many small pieces and the default BUFSIZ costs a syscall per 8 KiB; beyond 64 KiB
     // a syscall costs nothing measurable, while a larger buffer is a fresh mapping for every small file.
-    std::setvbuf(file_, nullptr, _IOFBF, 64 * 1024);
+    std::setvbuf(file_, nullptr, _IOFBF, kBufferBytes);
 }
 
 OutputFile::~OutputFile() {

@@ -11,6 +11,9 @@ namespace rivulet::io {
 
 class OutputFile {
   public:
+    // The stdio buffer: writes of about this size or more are as cheap as any larger.
+    static constexpr std::size_t kBufferBytes = 64 * 1024;
+
     explicit OutputFile(std::string path);
     ~OutputFile();
     OutputFile(const OutputFile&) = delete;
