@@ -496,13 +496,10 @@ TEST(Shadows, TheMapCoversTheStageWithSquareTexels) {
     const std::vector<Vec3f> stage = shadow_stage(scene);
     const ShadowFit fit = fit_shadow(key_light(scene.camera), stage, kShadowMapSize, scene.ground_y);
     for (Vec3f p : stage) {
-        float c[3];
-        for (int row = 0; row < 3; ++row)
-            c[row] = fit.texture_matrix.m[row] * p.x + fit.texture_matrix.m[4 + row] * p.y +
-                     fit.texture_matrix.m[8 + row] * p.z + fit.texture_matrix.m[12 + row];
-        for (float v : c) {
-            EXPECT_GE(v, 0.0f);
-            EXPECT_LE(v, 1.0f);
+        const Eigen::Vector4f c = clip_of(fit.texture_matrix, p);
+        for (int axis = 0; axis < 3; ++axis) {
+            EXPECT_GE(c[axis], 0.0f);
+            EXPECT_LE(c[axis], 1.0f);
         }
     }
     EXPECT_LT(fit.texel_world, 0.004f);  // a few millimetres: finer than a particle

@@ -17,36 +17,35 @@ CameraBasis camera_basis(const CameraDesc& camera) {
     return b;
 }
 
+Mat4 look_at(const CameraBasis& b) {
+    const Vec3f r = b.right, u = b.up, f = b.forward;
+    Mat4 v;
+    v << r.x, r.y, r.z, -dot(r, b.eye),   //
+        u.x, u.y, u.z, -dot(u, b.eye),    //
+        -f.x, -f.y, -f.z, dot(f, b.eye),  //
+        0, 0, 0, 1;
+    return v;
+}
+
+Mat4 perspective(float tan_half_fov_y, float aspect) {
+    const float f = 1.0f / tan_half_fov_y;
+    const float n = kCameraNear, fa = kCameraFar;
+    Mat4 p;
+    p << f / aspect, 0, 0, 0,                              //
+        0, f, 0, 0,                                        //
+        0, 0, (fa + n) / (n - fa), 2 * fa * n / (n - fa),  //
+        0, 0, -1, 0;
+    return p;
+}
+
 Mat4 view_projection(const CameraDesc& camera, float aspect) {
     const CameraBasis b = camera_basis(camera);
-    const float f = 1.0f / b.tan_half_fov_y;
-    const float n = kCameraNear, fa = kCameraFar;
-    // Rows of P * V with P the OpenGL perspective matrix and V the look-at matrix, written out directly.
-    const float sx = f / aspect, sy = f;
-    const float za = (fa + n) / (n - fa), zb = 2 * fa * n / (n - fa);
-    const Vec3f r = b.right, u = b.up, fw = b.forward;
-    const float tr = -dot(r, b.eye), tu = -dot(u, b.eye), tf = dot(fw, b.eye);
-    Mat4 out{};
-    auto set_row = [&](int row, float c0, float c1, float c2, float c3) {
-        out.m[0 * 4 + row] = c0;
-        out.m[1 * 4 + row] = c1;
-        out.m[2 * 4 + row] = c2;
-        out.m[3 * 4 + row] = c3;
-    };
-    // View-space z is -forward, so clip z = za * (-fw . p + tf) + zb and clip w = fw . p - tf.
-    set_row(0, sx * r.x, sx * r.y, sx * r.z, sx * tr);
-    set_row(1, sy * u.x, sy * u.y, sy * u.z, sy * tu);
-    set_row(2, -za * fw.x, -za * fw.y, -za * fw.z, za * tf + zb);
-    set_row(3, fw.x, fw.y, fw.z, -tf);
-    return out;
+    return perspective(b.tan_half_fov_y, aspect) * look_at(b);
 }
 
 bool project_to_pixel(const CameraDesc& camera, int width, int height, Vec3f world, float& px, float& py) {
     const Mat4 vp = view_projection(camera, static_cast<float>(width) / static_cast<float>(height));
-    float clip[4];
-    for (int row = 0; row < 4; ++row) {
-        clip[row] = vp.m[row] * world.x + vp.m[4 + row] * world.y + vp.m[8 + row] * world.z + vp.m[12 + row];
-    }
+    const Eigen::Vector4f clip = clip_of(vp, world);
     if (clip[3] <= 0) return false;
     const float nx = clip[0] / clip[3], ny = clip[1] / clip[3], nz = clip[2] / clip[3];
     px = (nx * 0.5f + 0.5f) * static_cast<float>(width);

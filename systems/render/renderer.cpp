@@ -225,16 +225,16 @@ struct Renderer::Impl {
         if (volume) volume->set_camera(camera, light);
         if (diffuse) diffuse->set_camera(camera);
         for (const LitProgram& p : lit) {
-            glProgramUniformMatrix4fv(p.id, p.view_proj, 1, GL_FALSE, vp.m);
+            glProgramUniformMatrix4fv(p.id, p.view_proj, 1, GL_FALSE, vp.data());
             glProgramUniform3f(p.id, p.eye, b.eye.x, b.eye.y, b.eye.z);
             glProgramUniform3f(p.id, p.light_dir, light.x, light.y, light.z);
             glProgramUniform3f(p.id, p.right, b.right.x, b.right.y, b.right.z);
             glProgramUniform3f(p.id, p.up, b.up.x, b.up.y, b.up.z);
         }
-        glProgramUniformMatrix4fv(thickness.id, thickness.view_proj, 1, GL_FALSE, vp.m);
+        glProgramUniformMatrix4fv(thickness.id, thickness.view_proj, 1, GL_FALSE, vp.data());
         glProgramUniform3f(thickness.id, thickness.eye, b.eye.x, b.eye.y, b.eye.z);
         const ThicknessPointProgram& tp = thickness_points;
-        glProgramUniformMatrix4fv(tp.id, tp.view_proj, 1, GL_FALSE, vp.m);
+        glProgramUniformMatrix4fv(tp.id, tp.view_proj, 1, GL_FALSE, vp.data());
         glProgramUniform3f(tp.id, tp.eye, b.eye.x, b.eye.y, b.eye.z);
         glProgramUniform3f(tp.id, tp.forward, b.forward.x, b.forward.y, b.forward.z);
         glProgramUniform3f(tp.id, tp.right, b.right.x, b.right.y, b.right.z);
@@ -252,13 +252,13 @@ struct Renderer::Impl {
     void fit_shadows(const SceneDesc& scene) {
         shadow_fit = fit_shadow(light, shadow_stage(scene), shadow_map.resolution(), scene.ground_y);
         for (const LitProgram& p : lit) {
-            glProgramUniformMatrix4fv(p.id, p.shadow_matrix, 1, GL_FALSE, shadow_fit.texture_matrix.m);
+            glProgramUniformMatrix4fv(p.id, p.shadow_matrix, 1, GL_FALSE, shadow_fit.texture_matrix.data());
             glProgramUniform1f(p.id, p.shadow_texel, shadow_fit.texel_world);
         }
         glProgramUniformMatrix4fv(shadow.id, shadow.light_view_proj, 1, GL_FALSE,
-                                  shadow_fit.light_view_proj.m);
+                                  shadow_fit.light_view_proj.data());
         glProgramUniformMatrix4fv(shadow_points.id, shadow_points.light_view_proj, 1, GL_FALSE,
-                                  shadow_fit.light_view_proj.m);
+                                  shadow_fit.light_view_proj.data());
     }
 
     void set_environment() {

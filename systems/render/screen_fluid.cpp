@@ -323,7 +323,7 @@ struct ScreenFluidPass::Impl {
             glProgramUniform3f(p->id, u.right, b.right.x, b.right.y, b.right.z);
             glProgramUniform3f(p->id, u.up, b.up.x, b.up.y, b.up.z);
             glProgramUniform2f(p->id, u.half_extent, b.tan_half_fov_y * aspect, b.tan_half_fov_y);
-            glProgramUniformMatrix4fv(p->id, u.view_proj, 1, GL_FALSE, vp.m);
+            glProgramUniformMatrix4fv(p->id, u.view_proj, 1, GL_FALSE, vp.data());
         }
         glProgramUniform3f(composite.id, composite_light, light.x, light.y, light.z);
     }

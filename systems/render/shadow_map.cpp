@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/Geometry>
+
 #include "systems/render/gl_program.h"
 #include "systems/render/scene_geometry.h"
 
@@ -39,16 +41,13 @@ ShadowFit fit_shadow(Vec3f light, std::span<const Vec3f> points, int resolution,
     ShadowFit fit;
     fit.texel_world = extent / static_cast<float>(resolution);
     fit.depth_range = near - far;
-    const float rows[3][4] = {{r.x * s, r.y * s, r.z * s, -cx * s},
-                              {u.x * s, u.y * s, u.z * s, -cy * s},
-                              {-L.x * dz, -L.y * dz, -L.z * dz, -1.0f + near * dz}};
-    for (int row = 0; row < 3; ++row) {
-        for (int col = 0; col < 4; ++col) {
-            fit.light_view_proj.m[col * 4 + row] = rows[row][col];
-            fit.texture_matrix.m[col * 4 + row] = 0.5f * rows[row][col] + (col == 3 ? 0.5f : 0.0f);
-        }
-    }
-    fit.light_view_proj.m[15] = fit.texture_matrix.m[15] = 1.0f;
+    fit.light_view_proj << r.x * s, r.y * s, r.z * s, -cx * s,  //
+        u.x * s, u.y * s, u.z * s, -cy * s,                     //
+        -L.x * dz, -L.y * dz, -L.z * dz, -1.0f + near * dz,     //
+        0, 0, 0, 1;
+    // Clip [-1, 1]³ -> texture [0, 1]³.
+    const Eigen::Affine3f to_texture = Eigen::Translation3f(0.5f, 0.5f, 0.5f) * Eigen::Scaling(0.5f);
+    fit.texture_matrix = to_texture.matrix() * fit.light_view_proj;
     // Shadows of what lies in the stage fall inside the stage's points slid along the light down to the
     // ground (a light that grazes the ground reaches it everywhere); a little more for the filter's reach.
     if (L.y < 0.05f) {

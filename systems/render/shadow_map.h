@@ -26,10 +26,11 @@ struct GroundRect {
 };
 
 struct ShadowFit {
-    Mat4 light_view_proj{};  // world -> clip of the shadow pass
-    Mat4 texture_matrix{};   // world -> [0, 1]³: shadow-map coordinates and the depth to compare
-    float texel_world = 0;   // edge of one shadow-map texel in world units
-    float depth_range = 1;   // world units between window depth 0 and 1
+    Mat4 light_view_proj = Mat4::Identity();  // world -> clip of the shadow pass
+    Mat4 texture_matrix =
+        Mat4::Identity();   // world -> [0, 1]³: shadow-map coordinates and the depth to compare
+    float texel_world = 0;  // edge of one shadow-map texel in world units
+    float depth_range = 1;  // world units between window depth 0 and 1
     // Where the casters of the stage can shadow the ground plane: the ground outside is drawn without
     // lookups.
     GroundRect ground;

@@ -112,7 +112,7 @@ struct SpritePass::Impl {
 
     void set_camera(const CameraDesc& camera) {
         const Mat4 vp = view_projection(camera, static_cast<float>(width) / static_cast<float>(height));
-        glProgramUniformMatrix4fv(program, view_proj, 1, GL_FALSE, vp.m);
+        glProgramUniformMatrix4fv(program, view_proj, 1, GL_FALSE, vp.data());
         // viewport_height * P[1][1] / 2, with P[1][1] = 1 / tan(fov_y / 2).
         glProgramUniform1f(program, pixels_per_unit,
                            0.5f * static_cast<float>(height) / camera_basis(camera).tan_half_fov_y);

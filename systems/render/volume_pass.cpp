@@ -157,7 +157,7 @@ struct VolumePass::Impl {
 
     Vec3f clip_lo{-kNoClip, -kNoClip, -kNoClip}, clip_hi{kNoClip, kNoClip, kNoClip};
     CameraBasis basis;
-    Mat4 view_proj{};
+    Mat4 view_proj = Mat4::Zero();
     Rect dirty;  // where the depth and thickness targets may still hold an earlier frame's hits
 
     VolumeTimings timings;
@@ -269,7 +269,7 @@ struct VolumePass::Impl {
             glProgramUniform3f(p, u.right, b.right.x, b.right.y, b.right.z);
             glProgramUniform3f(p, u.up, b.up.x, b.up.y, b.up.z);
             glProgramUniform2f(p, u.half_extent, b.tan_half_fov_y * aspect, b.tan_half_fov_y);
-            glProgramUniformMatrix4fv(p, u.view_proj, 1, GL_FALSE, view_proj.m);
+            glProgramUniformMatrix4fv(p, u.view_proj, 1, GL_FALSE, view_proj.data());
         }
         glProgramUniform3f(raycast, u_light, light.x, light.y, light.z);
     }
@@ -492,10 +492,8 @@ struct VolumePass::Impl {
         float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
         for (int corner = 0; corner < 8; ++corner) {
             const Vec3f p{corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z};
-            const float* m = view_proj.m;
-            const float cx = m[0] * p.x + m[4] * p.y + m[8] * p.z + m[12];
-            const float cy = m[1] * p.x + m[5] * p.y + m[9] * p.z + m[13];
-            const float cw = m[3] * p.x + m[7] * p.y + m[11] * p.z + m[15];
+            const Eigen::Vector4f clip = clip_of(view_proj, p);
+            const float cx = clip.x(), cy = clip.y(), cw = clip.w();
             if (cw < kCameraNear) return false;
             x0 = std::min(x0, (cx / cw + 1) * hw), x1 = std::max(x1, (cx / cw + 1) * hw);
             y0 = std::min(y0, (cy / cw + 1) * hh), y1 = std::max(y1, (cy / cw + 1) * hh);
