@@ -151,23 +151,25 @@ Recording make_recording(const FramePipeline& pipeline, std::span<const FrameInp
     return r;
 }
 
-std::optional<Divergence> first_divergence(const Recording& recording,
+std::optional<Divergence> first_divergence(std::span<const RecordedFrame> recorded,
                                            std::span<const FrameRecord> replayed) {
-    const std::size_t n = std::min(recording.frames.size(), replayed.size());
+    const std::size_t n = std::min(recorded.size(), replayed.size());
     for (std::size_t i = 0; i < n; ++i) {
-        const RecordedFrame& want = recording.frames[i];
+        const RecordedFrame& want = recorded[i];
         const FrameRecord& got = replayed[i];
         if (want.particles != got.particle_hash)
             return Divergence{i, got.frame, "particles", want.particles, got.particle_hash};
         if (want.surface != got.hash) return Divergence{i, got.frame, "surface", want.surface, got.hash};
     }
-    if (replayed.size() != recording.frames.size())
-        return Divergence{n, 0, "frame count", recording.frames.size(), replayed.size()};
+    if (replayed.size() != recorded.size())
+        return Divergence{n, 0, "frame count", recorded.size(), replayed.size()};
     return std::nullopt;
 }
 
-ReplayOutcome replay_recording(Recording rec, std::size_t frames, const std::function<void(int)>& on_frame) {
-    if (frames > 0 && frames < rec.frames.size()) rec.frames.resize(frames);
+ReplayOutcome replay_recording(const Recording& rec, std::size_t frames,
+                               const std::function<void(int)>& on_frame) {
+    const std::span<const RecordedFrame> recorded =
+        std::span(rec.frames).first(frames > 0 ? std::min(frames, rec.frames.size()) : rec.frames.size());
     PipelineSettings config;
     config.method = rec.method;
     config.scan = rec.scan;
@@ -179,9 +181,9 @@ ReplayOutcome replay_recording(Recording rec, std::size_t frames, const std::fun
     config.inputs = [&rec](std::uint64_t f) { return f < rec.inputs.size() ? rec.inputs[f] : FrameInputs{}; };
     FramePipeline pipeline(rec.scene, config);
     pipeline.warmup();
-    pipeline.reserve_records(rec.frames.size());
-    pipeline.run(static_cast<int>(rec.frames.size()), on_frame);
-    return {rec.frames.size(), first_divergence(rec, pipeline.records())};
+    pipeline.reserve_records(recorded.size());
+    pipeline.run(static_cast<int>(recorded.size()), on_frame);
+    return {recorded.size(), first_divergence(recorded, pipeline.records())};
 }
 
 }  // namespace rivulet

@@ -57,7 +57,12 @@ struct Divergence {
 };
 
 // The first frame whose particle or surface hash differs (particles first: they are upstream).
-std::optional<Divergence> first_divergence(const Recording& recording, std::span<const FrameRecord> replayed);
+std::optional<Divergence> first_divergence(std::span<const RecordedFrame> recorded,
+                                           std::span<const FrameRecord> replayed);
+inline std::optional<Divergence> first_divergence(const Recording& recording,
+                                                  std::span<const FrameRecord> replayed) {
+    return first_divergence(recording.frames, replayed);
+}
 
 struct ReplayOutcome {
     std::size_t frames = 0;  // recorded frames replayed
@@ -67,7 +72,7 @@ struct ReplayOutcome {
 // Re-runs the recording's first `frames` recorded frames (0: all) without rendering, in the calling
 // thread's TBB arena, and compares their hashes; `on_frame(i)` after replayed frame i. `rivulet replay`
 // and rivulet::replay (include/rivulet/recording.h) both are this.
-ReplayOutcome replay_recording(Recording recording, std::size_t frames,
+ReplayOutcome replay_recording(const Recording& recording, std::size_t frames,
                                const std::function<void(int)>& on_frame = {});
 
 }  // namespace rivulet

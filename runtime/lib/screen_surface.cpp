@@ -48,8 +48,10 @@ FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<Const
     return spray() ? add_spray_jobs(graph, slot, stage) : stage;
 }
 
-ConstPositions ScreenSurface::staged_positions(const Staged& s, ParticleRange r) const {
-    return ConstPositions{s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)}.subspan(r.begin, r.count);
+ScreenSurface::SprayChunk ScreenSurface::spray_chunk(const Staged& s, std::size_t c) const {
+    const ParticleRange r = spray_chunking_.range(c, s.count);
+    return {ConstPositions{s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)}.subspan(r.begin, r.count),
+            r.begin};
 }
 
 FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::function<int()>& slot,
@@ -60,9 +62,7 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
         graph.parallel("screen.spray_grid", chunks,
                        [this, slot, buckets](std::size_t c) {
                            const Staged& s = staged_[slot()];
-                           const ParticleRange r = spray_chunking_.range(c, s.count);
-                           const ConstPositions p = staged_positions(s, r);
-                           const std::size_t at = r.begin;
+                           const auto [p, at] = spray_chunk(s, c);
                            spray_grid_chunk(grid_, p, keys_.span(at + p.size()).subspan(at),
                                             bucket_counts_.span((c + 1) * buckets).subspan(c * buckets));
                        },
@@ -80,9 +80,7 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
         graph.parallel("screen.spray_scatter", chunks,
                        [this, slot, buckets](std::size_t c) {
                            const Staged& s = staged_[slot()];
-                           const ParticleRange r = spray_chunking_.range(c, s.count);
-                           const ConstPositions p = staged_positions(s, r);
-                           const std::size_t at = r.begin;
+                           const auto [p, at] = spray_chunk(s, c);
                            spray_scatter_chunk(grid_, p, keys_.span(at + p.size()).subspan(at),
                                                cursors_.span((c + 1) * buckets).subspan(c * buckets),
                                                {cell_x_.span(s.count), cell_y_.span(s.count),
@@ -93,9 +91,7 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
         "screen.spray_count", chunks,
         [this, slot, buckets](std::size_t c) {
             const Staged& s = staged_[slot()];
-            const ParticleRange r = spray_chunking_.range(c, s.count);
-            const ConstPositions p = staged_positions(s, r);
-            const std::size_t at = r.begin;
+            const auto [p, at] = spray_chunk(s, c);
             const SprayCells sorted{bucket_start_.span(buckets + 1), cell_x_.span(s.count),
                                     cell_y_.span(s.count), cell_z_.span(s.count), cell_key_.span(s.count)};
             chunk_fluid_[c] = spray_count_chunk(grid_, sorted, p, keys_.span(at + p.size()).subspan(at),
@@ -113,9 +109,7 @@ FrameGraph::JobId ScreenSurface::add_spray_jobs(FrameGraph& graph, const std::fu
             for (std::size_t k = 0; k < n; ++k) (k < c ? fluid_before : fluid) += chunk_fluid_[k];
             fluid += fluid_before;
             if (c == 0) s.fluid = fluid;
-            const ParticleRange r = spray_chunking_.range(c, s.count);
-            const ConstPositions p = staged_positions(s, r);
-            const std::size_t at = r.begin;
+            const auto [p, at] = spray_chunk(s, c);
             const SprayPositionsOut out{s.sx.span(s.count), s.sy.span(s.count), s.sz.span(s.count)};
             spray_split_chunk(p, neighbours_.span(at + p.size()).subspan(at),
                               static_cast<std::uint32_t>(settings_.spray_neighbours), fluid_before,

@@ -46,7 +46,12 @@ class ScreenSurface final : public SurfaceSystem {
     std::size_t spray_chunks(std::size_t n) const {
         return std::max<std::size_t>(spray_chunking_.count(n), 1);
     }
-    ConstPositions staged_positions(const Staged& s, ParticleRange r) const;
+    // Chunk c of the staged particles the spray passes work on, and where it starts among them.
+    struct SprayChunk {
+        ConstPositions positions;
+        std::size_t at;
+    };
+    SprayChunk spray_chunk(const Staged& s, std::size_t c) const;
     FrameGraph::JobId add_spray_jobs(FrameGraph& graph, const std::function<int()>& slot,
                                      FrameGraph::JobId after);
 
