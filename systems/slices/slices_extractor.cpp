@@ -176,6 +176,66 @@ void SlicesExtractor::release_scratch(Scratch& s) {
     free_scratch_.push_back(&s);
 }
 
+void SlicesExtractor::frame_bounds(ConstPositions p, float lo[3], float hi[3]) const {
+    const std::size_t count = p.size();
+    lo[0] = hi[0] = p.x[0], lo[1] = hi[1] = p.y[0], lo[2] = hi[2] = p.z[0];
+    const std::span<const float> axes[3] = {p.x, p.y, p.z};
+    // Bounds without a branch per coordinate: v - v is NaN exactly when v is NaN or infinite. Only when
+    // some coordinate is, the slow loop finds the first (axis by axis) for the message.
+    bool finite = true;
+    for (int a = 0; a < 3; ++a) {
+        float l[4] = {lo[a], lo[a], lo[a], lo[a]}, h[4] = {hi[a], hi[a], hi[a], hi[a]};
+        bool ok[4] = {true, true, true, true};
+        const float* v = axes[a].data();
+        std::size_t i = 0;
+        for (; i + 4 <= count; i += 4)
+            for (int q = 0; q < 4; ++q) {
+                const float x = v[i + std::size_t(q)];
+                ok[q] &= (x - x) == 0.0f;
+                l[q] = x < l[q] ? x : l[q], h[q] = x > h[q] ? x : h[q];
+            }
+        for (; i < count; ++i) {
+            ok[0] &= (v[i] - v[i]) == 0.0f;
+            l[0] = v[i] < l[0] ? v[i] : l[0], h[0] = v[i] > h[0] ? v[i] : h[0];
+        }
+        for (int q = 0; q < 4; ++q)
+            finite &= ok[q], lo[a] = std::min(lo[a], l[q]), hi[a] = std::max(hi[a], h[q]);
+    }
+    if (!finite)
+        for (int a = 0; a < 3; ++a)
+            for (std::size_t i = 0; i < count; ++i)
+                if (!std::isfinite(axes[a][i]))
+                    throw std::invalid_argument(fmt::format("particle {} has a non-finite coordinate", i));
+}
+
+void SlicesExtractor::place_grid(const float lo[3], const float hi[3]) {
+    float origin[3];
+    std::uint32_t nb[3];
+    for (int a = 0; a < 3; ++a) {
+        const double first = std::floor(double(lo[a]) / voxel_), last = std::floor(double(hi[a]) / voxel_);
+        const double cells = last - first + 2.0 * grid_.reach + 6.0;
+        check_grid_cubes(cells);
+        origin[a] = static_cast<float>((first - grid_.reach - 2.0) * voxel_);
+        nb[a] = static_cast<std::uint32_t>(std::ceil(cells / grid_.n));
+    }
+    grid_.ox = origin[0], grid_.oy = origin[1], grid_.oz = origin[2];
+    grid_.bx = nb[0], grid_.by = nb[1], grid_.bz = nb[2];
+}
+
+void SlicesExtractor::fix_frame(ConstPositions whole) {
+    if (settings_.anisotropy > 0)
+        throw std::invalid_argument(
+            "a frame split into pieces takes spherical kernels only (no --anisotropic)");
+    if (whole.size() == 0) throw std::invalid_argument("no particles to mesh");
+    float lo[3], hi[3];
+    frame_bounds(whole, lo, hi);
+    if (!field_resolved_) resolve_field(whole, lo, hi);
+    field_resolved_ = true;
+    place_grid(lo, hi);
+    for (int a = 0; a < 3; ++a) fixed_lo_[a] = lo[a], fixed_hi_[a] = hi[a];
+    fixed_frame_ = true;
+}
+
 void SlicesExtractor::begin_frame(ConstPositions p) {
     if (p.size() > max_particles_)
         throw std::length_error(
@@ -189,51 +249,23 @@ void SlicesExtractor::begin_frame(ConstPositions p) {
         grid_.bx = grid_.by = grid_.bz = 0;
         return;
     }
-    float lo[3] = {p.x[0], p.y[0], p.z[0]}, hi[3] = {lo[0], lo[1], lo[2]};
-    const std::span<const float> axes[3] = {p.x, p.y, p.z};
-    // Bounds without a branch per coordinate: v - v is NaN exactly when v is NaN or infinite. Only when
-    // some coordinate is, the slow loop finds the first (axis by axis) for the message.
-    bool finite = true;
-    for (int a = 0; a < 3; ++a) {
-        float l[4] = {lo[a], lo[a], lo[a], lo[a]}, h[4] = {hi[a], hi[a], hi[a], hi[a]};
-        bool ok[4] = {true, true, true, true};
-        const float* v = axes[a].data();
-        std::size_t i = 0;
-        for (; i + 4 <= particles_; i += 4)
-            for (int q = 0; q < 4; ++q) {
-                const float x = v[i + std::size_t(q)];
-                ok[q] &= (x - x) == 0.0f;
-                l[q] = x < l[q] ? x : l[q], h[q] = x > h[q] ? x : h[q];
-            }
-        for (; i < particles_; ++i) {
-            ok[0] &= (v[i] - v[i]) == 0.0f;
-            l[0] = v[i] < l[0] ? v[i] : l[0], h[0] = v[i] > h[0] ? v[i] : h[0];
+    float lo[3], hi[3];
+    frame_bounds(p, lo, hi);
+    if (fixed_frame_) {
+        for (int a = 0; a < 3; ++a) {
+            if (lo[a] < fixed_lo_[a] || hi[a] > fixed_hi_[a])
+                throw std::logic_error("marching slices: particles outside the fixed frame's bounds");
+            lo[a] = fixed_lo_[a], hi[a] = fixed_hi_[a];
         }
-        for (int q = 0; q < 4; ++q)
-            finite &= ok[q], lo[a] = std::min(lo[a], l[q]), hi[a] = std::max(hi[a], h[q]);
     }
-    if (!finite)
-        for (int a = 0; a < 3; ++a)
-            for (std::size_t i = 0; i < particles_; ++i)
-                if (!std::isfinite(axes[a][i]))
-                    throw std::invalid_argument(fmt::format("particle {} has a non-finite coordinate", i));
     if (!field_resolved_) resolve_field(p, lo, hi);
     // The smoothed centres are weighted means of positions: inside these bounds too.
     if (settings_.anisotropy > 0) {
         hash_ = build_cell_hash(p, lo, anisotropy_params().radius, hash_heads_, hash_order_);
         sort_cell_hash_positions(hash_, p, hash_x_, hash_y_, hash_z_);
     }
-    float origin[3];
-    std::uint32_t nb[3];
-    for (int a = 0; a < 3; ++a) {
-        const double first = std::floor(double(lo[a]) / voxel_), last = std::floor(double(hi[a]) / voxel_);
-        const double cells = last - first + 2.0 * grid_.reach + 6.0;
-        check_grid_cubes(cells);
-        origin[a] = static_cast<float>((first - grid_.reach - 2.0) * voxel_);
-        nb[a] = static_cast<std::uint32_t>(std::ceil(cells / grid_.n));
-    }
-    grid_.ox = origin[0], grid_.oy = origin[1], grid_.oz = origin[2];
-    grid_.bx = nb[0], grid_.by = nb[1], grid_.bz = nb[2];
+    place_grid(lo, hi);
+    const std::uint32_t nb[3] = {grid_.bx, grid_.by, grid_.bz};
     const std::uint64_t blocks = std::uint64_t(nb[0]) * nb[1] * nb[2];
     if (blocks * chunks_ > (std::uint64_t(1) << 28))
         throw std::length_error(fmt::format(
@@ -464,6 +496,11 @@ void SlicesExtractor::weld_block(std::uint32_t item, SurfaceMesh& out) {
                                   [](const KeyedVertex& e, std::uint64_t k) { return e.key < k; });
             if (it == o->border.data() + o->border_n || it->key != fv.key) it = nullptr;
         }
+        if (!it && fixed_frame_) {  // the owner lies beyond the piece's particles: a rim block's vertex
+            s.foreign_owner[q] = {kMissingVertex, 0};
+            s.foreign_mesh[q] = kMissingVertex;
+            continue;
+        }
         if (!it)
             throw std::logic_error(fmt::format(
                 "marching slices: block {} refers to a border vertex its owner block did not produce",
@@ -491,6 +528,7 @@ void SlicesExtractor::borders() {
     for (std::uint32_t a = 0; a < active_count_; ++a) {  // border contributions, in block order
         const BlockSlot& s = slots_[a];
         for (std::uint32_t q = 0; q < s.foreign_n; ++q) {
+            if (s.foreign_owner[q].item == kMissingVertex) continue;
             const float* from = s.acc.data() + std::size_t(s.foreign[q].index) * 4;
             float* to =
                 slots_[s.foreign_owner[q].item].acc.data() + std::size_t(s.foreign_owner[q].vertex) * 4;

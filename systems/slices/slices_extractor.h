@@ -119,6 +119,19 @@ class SlicesExtractor {
 
     void extract_serial(ConstPositions p, SurfaceMesh& out);
 
+    // ---- one frame split into pieces (runtime/lib/mesh_decomposition.h) ----
+    // Fixes the grid and the field to the whole frame's, for frames that are subsets of its particles (a
+    // slab of blocks and its ghost margin): their blocks lie where the whole frame's do, and a block whose
+    // particles are all present is the same bytes as in the whole frame. Call before the first frame;
+    // throws with anisotropic kernels (their shapes need every neighbour of a particle).
+    void fix_frame(ConstPositions whole);
+    // A vertex whose owner block lies beyond a piece's particles (only at the piece's rim) is this index
+    // in the welded mesh instead of an error; the caller keeps only blocks away from the rim.
+    static constexpr std::uint32_t kMissingVertex = 0xffffffffu;
+    // The triangles active block `item` (0 .. blocks() - 1, block order) holds in the welded mesh.
+    std::uint64_t block_triangle_offset(std::uint32_t item) const { return slots_[item].triangle_offset; }
+    std::uint32_t block_triangle_count(std::uint32_t item) const { return slots_[item].triangles_n; }
+
     const SlicesStats& stats() const { return stats_; }
 
   private:
@@ -148,6 +161,10 @@ class SlicesExtractor {
     // needs more than any before).
     void grow_scratch(std::uint32_t particles, std::uint32_t cache_entries);
     std::uint32_t owner_of(std::uint64_t key) const;
+    // The particles' bounds; throws std::invalid_argument naming the first non-finite coordinate.
+    void frame_bounds(ConstPositions p, float lo[3], float hi[3]) const;
+    // The block grid around lo..hi with the field's reach and padding.
+    void place_grid(const float lo[3], const float hi[3]);
     void apply_field(const SliceFieldValues& field);
     // Throws std::length_error when an axis needs more than settings_.max_grid_cubes cubes.
     void check_grid_cubes(double cells) const;
@@ -172,6 +189,8 @@ class SlicesExtractor {
     AlignedArray<float> shape_sxx_, shape_sxy_, shape_syy_, shape_gx_, shape_gy_, shape_c_, shape_amp_;
     float rc_ = 0, iso_ = 0, voxel_ = 0;
     SliceGrid grid_;
+    bool fixed_frame_ = false;  // fix_frame: the grid's bounds are the whole frame's
+    float fixed_lo_[3] = {0, 0, 0}, fixed_hi_[3] = {0, 0, 0};
 
     std::size_t particles_ = 0;
     std::uint32_t chunks_ = 0;
