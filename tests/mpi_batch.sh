@@ -93,6 +93,14 @@ for path in sys.argv[2:]:
 print("decompose: %d triangles, same set, watertight" % len(want))
 PY
 
+# A frame that cannot be split that many ways: every rank stops with the reason, none waits for the others.
+status=0
+timeout 60 "${mpirun[@]}" -n 3 "$rivulet" mesh "$work/in/frame_00006.ply" --method slices --radius 0.05 \
+  --block 128 --decompose --out "$work/none.ply" > /dev/null 2> "$work/stderr" || status=$?
+[ "$status" -ne 0 ] && [ "$status" -ne 124 ] || { cat "$work/stderr"; fail "an unsplittable frame must fail, not hang"; }
+grep -q "fewer than the 3 pieces asked for" "$work/stderr" || { cat "$work/stderr"; fail "no reason given"; }
+[ ! -e "$work/none.ply" ] || fail "a mesh was written"
+
 # One file is not spread over ranks: a clear error, not three processes writing the same mesh.
 status=0
 "${mpirun[@]}" -n 2 "$rivulet" mesh "$work/in/frame_00000.ply" --method slices --out "$work/one.ply" \

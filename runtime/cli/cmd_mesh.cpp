@@ -190,6 +190,7 @@ int mesh_over_ranks(const cluster::MpiSession& session, const std::vector<FrameJ
     }
     return batch.failed > 0 ? 1 : 0;
 }
+
 // One frame split over the ranks by slabs of marching slices' blocks (runtime/lib/mesh_decomposition.h):
 // each rank reads the file, keeps its slab and ghost margin and meshes it; rank 0 welds the pieces into
 // one mesh (the whole frame's triangles), writes it and reports each piece.
@@ -199,10 +200,24 @@ int mesh_in_pieces(const cluster::MpiSession& session, const FrameJob& job, cons
     const auto ms_since = [](Clock::time_point t) {
         return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
     };
-    const ParticleCloud cloud = read_particles(job.in);
+    // Every rank reads and meshes before the gather; one that fails alone would leave the others
+    // waiting there, so they agree first whether all succeeded (the failed ranks then say why).
+    ParticleCloud cloud;
+    MeshPiece mine;
+    std::string error;
     const auto start = Clock::now();
-    const MeshPiece mine = extract_mesh_piece(cloud, req, session.rank(), session.size());
+    try {
+        cloud = read_particles(job.in);
+        mine = extract_mesh_piece(cloud, req, session.rank(), session.size());
+    } catch (const std::exception& e) {
+        error = e.what();
+    }
     const double piece_ms = ms_since(start);  // the piece with the frame's setup (grid, field, slab)
+    const int ok = error.empty() ? 1 : 0;
+    int all_ok = 0;
+    MPI_Allreduce(&ok, &all_ok, 1, MPI_INT, MPI_MIN, session.comm());
+    if (!ok) throw std::runtime_error(error);
+    if (!all_ok) return 1;
     const auto gather_start = Clock::now();
     const std::vector<MeshPiece> pieces = cluster::gather_pieces(session, mine);
     if (session.rank() != 0) return 0;
