@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <limits>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <numeric>
-#include <stdexcept>
 #include <thread>
+
+#include "cluster/gather_arrays.h"
 
 namespace rivulet::cluster {
 namespace {
@@ -76,23 +75,10 @@ void unpack(const std::string& text, std::vector<FrameOutcome>& into) {
 // Every rank's outcomes at rank 0, in frame order.
 std::vector<FrameOutcome> gather(const MpiSession& session, const std::vector<FrameOutcome>& mine) {
     const std::string text = pack(mine);
-    if (text.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-        throw std::runtime_error("a rank's frame records exceed 2 GiB");
-    const int length = static_cast<int>(text.size());
-    const bool root = session.rank() == 0;
-    std::vector<int> lengths(root ? session.size() : 0), offsets(lengths.size());
-    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, session.comm());
-    std::string all;
-    if (root) {
-        std::exclusive_scan(lengths.begin(), lengths.end(), offsets.begin(), 0);
-        all.resize(static_cast<std::size_t>(offsets.back()) + static_cast<std::size_t>(lengths.back()));
-    }
-    MPI_Gatherv(text.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0,
-                session.comm());
     std::vector<FrameOutcome> outcomes;
-    for (std::size_t r = 0; r < lengths.size(); ++r)
-        unpack(all.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(lengths[r])),
-               outcomes);
+    for (const std::vector<char>& rank :
+         gather_arrays(session, std::vector<char>(text.begin(), text.end()), MPI_CHAR, "frame records"))
+        unpack(std::string(rank.begin(), rank.end()), outcomes);
     std::sort(outcomes.begin(), outcomes.end(),
               [](const FrameOutcome& a, const FrameOutcome& b) { return a.index < b.index; });
     return outcomes;

@@ -67,16 +67,14 @@ MeshPiece extract_mesh_piece(const ParticleCloud& cloud, const MeshSettings& req
         throw std::invalid_argument(fmt::format("piece {} of {} does not exist", piece, pieces));
     const std::size_t n = cloud.x.size();
     if (n == 0) throw std::invalid_argument("no particles to mesh");
-    ParticleSet whole(n);
-    for (std::size_t i = 0; i < n; ++i)
-        whole.push(cloud.x[i], cloud.y[i], cloud.z[i], 0, 0, 0, static_cast<std::uint32_t>(i));
+    const ConstPositions whole{cloud.x, cloud.y, cloud.z};
     SlicesSettings settings = request.slices;
-    settings.radius = request.radius > 0 ? request.radius : estimate_particle_radius(whole.positions());
+    settings.radius = request.radius > 0 ? request.radius : estimate_particle_radius(whole);
     if (!(settings.radius > 0))
         throw std::invalid_argument(
             "cannot estimate a particle radius (all particles coincide): pass --radius");
     SlicesExtractor slices(settings, n);
-    slices.fix_frame(whole.positions());
+    slices.fix_frame(whole);
     const SliceGrid& grid = slices.grid();
 
     MeshPiece out;
@@ -165,21 +163,20 @@ TriangleMesh weld_mesh_pieces(std::span<const MeshPiece> pieces) {
         const std::size_t vertices = p.vertices.size() / 6;
         remap.assign(vertices, 0);
         for (std::size_t v = 0; v < vertices; ++v) {
+            const auto next = static_cast<std::uint32_t>(mesh.vertex_count());
             const float along = p.vertices[v * 6 + std::size_t(p.axis)];
-            if (std::abs(along - p.face_lo) > p.voxel && std::abs(along - p.face_hi) > p.voxel) {
-                remap[v] = static_cast<std::uint32_t>(mesh.vertex_count());
-                mesh.vertices.insert(mesh.vertices.end(), p.vertices.begin() + std::ptrdiff_t(v * 6),
-                                     p.vertices.begin() + std::ptrdiff_t(v * 6 + 6));
-                continue;
+            const bool on_seam =
+                std::abs(along - p.face_lo) <= p.voxel || std::abs(along - p.face_hi) <= p.voxel;
+            remap[v] = next;
+            if (on_seam) {
+                VertexKey key;
+                for (std::size_t c = 0; c < 6; ++c)
+                    key.bits[c] = std::bit_cast<std::uint32_t>(p.vertices[v * 6 + c]);
+                remap[v] = index.try_emplace(key, next).first->second;
             }
-            VertexKey key;
-            for (std::size_t c = 0; c < 6; ++c)
-                key.bits[c] = std::bit_cast<std::uint32_t>(p.vertices[v * 6 + c]);
-            const auto [it, added] = index.try_emplace(key, static_cast<std::uint32_t>(mesh.vertex_count()));
-            if (added)
+            if (remap[v] == next)  // a vertex no earlier piece had
                 mesh.vertices.insert(mesh.vertices.end(), p.vertices.begin() + std::ptrdiff_t(v * 6),
                                      p.vertices.begin() + std::ptrdiff_t(v * 6 + 6));
-            remap[v] = it->second;
         }
         for (std::uint32_t i : p.indices) mesh.indices.push_back(remap[i]);
     }
