@@ -28,6 +28,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -64,7 +65,7 @@ struct Row {
     std::uint32_t groups = 0, isolated = 0, bin_entries = 0, pool_exhausted = 0;
 };
 
-Row measure(const rivulet::ParticleSet& set, int threads, int warmup, int runs) {
+Row measure(const rivulet::ParticleSet& set, int threads, int warmup, int runs, rivulet::CylinderAxis axis) {
     const rivulet::ThreadControl control(threads);
     const auto y = set.y();
     const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
@@ -72,20 +73,37 @@ Row measure(const rivulet::ParticleSet& set, int threads, int warmup, int runs) 
     settings.radius = kRadius;
     settings.v_top = *hi + 0.5f * kRadius;
     settings.v_bottom = *lo - 0.5f * kRadius;
-    rivulet::ScanConverter scan(settings, set.size());
+    settings.axis = axis;
     rivulet::ScanOutput out;
-    scan.prepare_output(out);
-
     FrameGraph graph;
-    rivulet::add_scan_jobs(
-        graph, scan, [&set] { return set.positions(); }, [&out]() -> rivulet::ScanOutput& { return out; });
+    auto positions = [&set] { return set.positions(); };
+    auto output = [&out]() -> rivulet::ScanOutput& { return out; };
+    std::unique_ptr<rivulet::ScanConverter> vertical;
+    std::unique_ptr<rivulet::OrientedScan> path;
+    if (axis == rivulet::CylinderAxis::kPath) {
+        path = std::make_unique<rivulet::OrientedScan>(settings, set.size());
+        path->prepare_output(out);
+        rivulet::add_oriented_scan_jobs(graph, *path, positions, output);
+    } else {
+        vertical = std::make_unique<rivulet::ScanConverter>(settings, set.size());
+        vertical->prepare_output(out);
+        rivulet::add_scan_jobs(graph, *vertical, positions, output);
+    }
     // Table columns by job name: bin_sort.* | grouping* | deform | normals | isolated, stage.
     enum Column { kBins, kGrouping, kDeform, kNormals, kIsoStage, kColumns };
     std::vector<Column> column(graph.job_count());
     for (FrameGraph::JobId j = 0; j < graph.job_count(); ++j) {
         const std::string& n = graph.job_name(j);
-        if (n.starts_with("scan.bin_"))
+        if (n.starts_with("scan.bin_") || n == "scan.begin")
             column[j] = kBins;
+        else if (n == "oriented.link" || n == "oriented.skeleton" || n == "oriented.cylinders")
+            column[j] = kGrouping;
+        else if (n == "oriented.rings")
+            column[j] = kDeform;
+        else if (n == "oriented.normals")
+            column[j] = kNormals;
+        else if (n == "oriented.isolated" || n == "oriented.stage")
+            column[j] = kIsoStage;
         else if (n == "scan.neighbours" || n == "scan.group" || n == "scan.spread" ||
                  n == "scan.list_offsets" || n == "scan.lists")
             column[j] = kGrouping;
@@ -141,6 +159,7 @@ int run(int argc, char** argv) {
     int runs = 100, warmup = 20;
     long streams = 0;
     std::string json_path;
+    rivulet::CylinderAxis axis = rivulet::CylinderAxis::kVertical;
     for (int i = 1; i < argc; ++i) {
         const std::string_view a = argv[i];
         auto value = [&]() -> std::string_view {
@@ -157,12 +176,17 @@ int run(int argc, char** argv) {
             warmup = static_cast<int>(std::strtol(std::string(value()).c_str(), nullptr, 10));
         else if (a == "--json")
             json_path = value();
-        else if (a == "--streams")
+        else if (a == "--axis") {
+            const std::string_view v = value();
+            if (v != "path" && v != "vertical")
+                throw std::invalid_argument(fmt::format("--axis must be path or vertical, got '{}'", v));
+            axis = v == "path" ? rivulet::CylinderAxis::kPath : rivulet::CylinderAxis::kVertical;
+        } else if (a == "--streams")
             streams = rivulet::bench::parse_list(value(), "stream count").front();
         else if (a == "--help" || a == "-h") {
             fmt::print(
                 "usage: {} [--sizes 1000,2000,...] [--threads 1,2] [--runs 100] [--warmup 20] [--streams N] "
-                "[--json FILE]\n",
+                "[--axis vertical|path] [--json FILE]\n",
                 argv[0]);
             return 0;
         } else
@@ -174,7 +198,7 @@ int run(int argc, char** argv) {
         const rivulet::ParticleSet set =
             falling_stream(static_cast<std::size_t>(p), static_cast<std::size_t>(streams));
         for (const long t : threads) {
-            rows.push_back(measure(set, static_cast<int>(t), warmup, runs));
+            rows.push_back(measure(set, static_cast<int>(t), warmup, runs, axis));
             const Row& r = rows.back();
             std::fprintf(stderr, "P=%zu T=%d: %.3f ms\n", r.particles, r.threads, r.total_ms);
         }

@@ -61,7 +61,7 @@ TEST(BenchReport, BenchCommandWritesJsonTableAndPlots) {
     EXPECT_EQ(j["cases"][1]["threads"], 2);
     EXPECT_EQ(j["cases"][0]["frames"], 2);  // timed frames only
     EXPECT_GT(j["cases"][1]["frames_per_second"].get<double>(), 0.0);
-    EXPECT_TRUE(j["cases"][1]["stages"].contains("scan.group"));
+    EXPECT_TRUE(j["cases"][1]["stages"].contains("oriented.skeleton"));
     EXPECT_TRUE(std::filesystem::exists(out + "/bench.md"));
     EXPECT_TRUE(is_png(out + "/scaling.png"));
     EXPECT_TRUE(is_png(out + "/stages.png"));

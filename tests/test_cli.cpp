@@ -32,7 +32,7 @@ TEST(Cli, RunWritesTheTimingJsonAndPictures) {
     for (const char* key : {"frame_ms", "render_ms", "extract_ms"})
         EXPECT_GT(j[key].get<double>(), 0.0) << key;
     for (const char* stage :
-         {"scan.group", "scan.deform", "scan.normals", "scan.bin_scatter", "upload_staging"})
+         {"oriented.link", "oriented.skeleton", "oriented.rings", "oriented.normals", "upload_staging"})
         EXPECT_TRUE(j["stages"].contains(stage)) << stage;
     EXPECT_TRUE(std::ifstream(out + "/frame_00002.png").good());
 }
@@ -69,7 +69,7 @@ TEST(Cli, MeshWritesAMeshAndItsJson) {
     EXPECT_GT(j["triangles"].get<int>(), 0);
     EXPECT_GT(j["vertices"].get<int>(), 0);
     EXPECT_EQ(j["mesh_hash"].get<std::string>().size(), 16u);
-    EXPECT_TRUE(j["stages"].contains("scan.group"));
+    EXPECT_TRUE(j["stages"].contains("oriented.skeleton"));
     EXPECT_GE(j["total_ms"].get<double>(), 0.0);
     // Same input, other thread count: same bytes.
     const std::string json1 = rivulet::test::temp_path("mesh1.json");

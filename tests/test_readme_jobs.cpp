@@ -20,9 +20,11 @@ namespace {
 // Job name -> parallel, over the pipelines of every kind of simulation and every surface method.
 std::map<std::string, bool> pipeline_jobs() {
     std::map<std::string, bool> jobs;
-    const auto add = [&jobs](SceneDesc scene, SurfaceMethod method, float anisotropy = 0.0f) {
+    const auto add = [&jobs](SceneDesc scene, SurfaceMethod method, float anisotropy = 0.0f,
+                             CylinderAxis axis = CylinderAxis::kPath) {
         PipelineSettings config;
         config.method = method;
+        config.scan.axis = axis;
         config.slices.anisotropy = anisotropy;
         config.render = false;
         FramePipeline pipeline(scene, config);
@@ -34,6 +36,7 @@ std::map<std::string, bool> pipeline_jobs() {
          {SurfaceMethod::kScan, SurfaceMethod::kSlices, SurfaceMethod::kScreen, SurfaceMethod::kVolume})
         add(make_builtin_scene("fountain"), m, 0.0f);
     add(make_builtin_scene("fountain"), SurfaceMethod::kSlices, kDefaultAnisotropy);
+    add(make_builtin_scene("fountain"), SurfaceMethod::kScan, 0.0f, CylinderAxis::kVertical);
     SceneDesc dam = make_builtin_scene("dambreak");
     add(dam, SurfaceMethod::kScan);
     dam.sph.solver = SphSolver::kWcsph;

@@ -67,16 +67,16 @@ TEST(Trace, RunWritesZonesThreadsFramesAndHandOverFlows) {
     for (FrameGraph::JobId j = 0; j < pipeline.graph().job_count(); ++j) {
         const std::string& name = pipeline.graph().job_name(j);
         ASSERT_TRUE(zones.count(name)) << name;
-        if (name == "scan.group" || name == "upload_staging") {
+        if (name == "oriented.cylinders" || name == "upload_staging") {
             EXPECT_EQ(zones[name], kFrames) << name;
         }
     }
     EXPECT_EQ(zones["render"], kFrames);
-    // Parallel jobs carry their item ids: scan.deform has one zone per group, numbered 0..groups-1.
-    ASSERT_FALSE(items_of_frame0["scan.deform"].empty());
-    EXPECT_EQ(*items_of_frame0["scan.deform"].begin(), 0);
-    EXPECT_EQ(static_cast<int>(items_of_frame0["scan.deform"].size()),
-              *items_of_frame0["scan.deform"].rbegin() + 1);
+    // Parallel jobs carry their item ids: oriented.rings has one zone per branch, numbered 0..branches-1.
+    ASSERT_FALSE(items_of_frame0["oriented.rings"].empty());
+    EXPECT_EQ(*items_of_frame0["oriented.rings"].begin(), 0);
+    EXPECT_EQ(static_cast<int>(items_of_frame0["oriented.rings"].size()),
+              *items_of_frame0["oriented.rings"].rbegin() + 1);
     EXPECT_TRUE(thread_names.count("main (render)"));
     EXPECT_TRUE(thread_names.count("worker 1"));
     EXPECT_EQ(frame_markers, kFrames);

@@ -9,7 +9,6 @@
 #include "runtime/lib/volume_jobs.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/particles/radius_estimate.h"
-#include "systems/scan/scan_converter.h"
 #include "systems/scan/scan_mesh.h"
 #include "systems/slices/slices_extractor.h"
 #include "systems/volume/volume_builder.h"
@@ -40,7 +39,7 @@ struct SurfaceExtractor::Workspace {
     } slices;
     struct Scan : Built {
         float v_top = 0, v_bottom = 0;
-        std::unique_ptr<ScanConverter> system;
+        std::unique_ptr<OrientedScan> system;  // cylinders along the streams (ScanSettings' default axis)
         ScanOutput out;
         std::unique_ptr<FrameGraph> graph;
         TriangleMesh mesh;
@@ -92,17 +91,17 @@ MeshView SurfaceExtractor::Workspace::run_slices(const SurfaceSettings& s, tbb::
 }
 
 MeshView SurfaceExtractor::Workspace::run_scan(const SurfaceSettings& s, tbb::task_arena& workers) {
-    // The cylinder layout spans the planes' range, so a new range rebuilds the converter.
+    // The settings' V range is validated with the rest, so a new range rebuilds the converter.
     ScanSettings settings;
     settings.radius = s.radius;
     settings.fit_v_range(y.span(n));
     const float v_top = settings.v_top, v_bottom = settings.v_bottom;
     if (!scan.system || !scan.fits(s, n) || v_top != scan.v_top || v_bottom != scan.v_bottom) {
         scan.graph.reset();
-        scan.system = std::make_unique<ScanConverter>(settings, capacity_for(n));
+        scan.system = std::make_unique<OrientedScan>(settings, capacity_for(n));
         scan.system->prepare_output(scan.out);
         scan.graph = std::make_unique<FrameGraph>();
-        add_scan_jobs(
+        add_oriented_scan_jobs(
             *scan.graph, *scan.system, [this] { return positions(); },
             [this]() -> ScanOutput& { return scan.out; });
         scan.settings = s, scan.capacity = capacity_for(n), scan.v_top = v_top, scan.v_bottom = v_bottom;

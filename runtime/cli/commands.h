@@ -24,6 +24,7 @@ void add_bench_command(CLI::App& app, int& status);
 struct ScanOptions {
     ScanSettings settings;
     std::string radial = "maxima";
+    std::string axis = "path";
     void add_to(CLI::App& cmd);
     // Applies --radial; throws std::invalid_argument on a bad value.
     ScanSettings resolve() const;

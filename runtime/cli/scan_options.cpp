@@ -44,6 +44,10 @@ void ScanOptions::add_to(CLI::App& cmd) {
         ->capture_default_str();
     cmd.add_option("--tension", settings.section.tension, "Gaussian tension k (blended gaussians)")
         ->capture_default_str();
+    cmd.add_option("--axis", axis,
+                   "Cylinder axes: path (each cylinder follows its stream, arcs stay round) or vertical "
+                   "(the paper's V axis)")
+        ->capture_default_str();
 }
 
 ScanSettings ScanOptions::resolve() const {
@@ -54,6 +58,13 @@ ScanSettings ScanOptions::resolve() const {
         s.section.function = RadialFunction::kGaussianBlend;
     } else {
         throw std::invalid_argument(fmt::format("--radial must be 'maxima' or 'gaussian', got '{}'", radial));
+    }
+    if (axis == "path") {
+        s.axis = CylinderAxis::kPath;
+    } else if (axis == "vertical") {
+        s.axis = CylinderAxis::kVertical;
+    } else {
+        throw std::invalid_argument(fmt::format("--axis must be 'path' or 'vertical', got '{}'", axis));
     }
     return s;
 }

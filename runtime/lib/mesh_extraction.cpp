@@ -1,3 +1,5 @@
+#include <memory>
+
 #include "runtime/lib/mesh_extraction.h"
 
 #include <fmt/format.h>
@@ -116,17 +118,25 @@ MeshResult extract_mesh(const ParticleCloud& cloud, const MeshSettings& req) {
     ScanSettings s = req.scan;
     s.radius = result.radius;
     s.fit_v_range(cloud.y);
-    ScanConverter scan(s, n);
     ScanOutput out;
-    scan.prepare_output(out);
-
     FrameGraph graph;
-    add_scan_jobs(
-        graph, scan, [&particles] { return particles.positions(); }, [&out]() -> ScanOutput& { return out; });
+    auto positions = [&particles] { return particles.positions(); };
+    auto output = [&out]() -> ScanOutput& { return out; };
+    std::unique_ptr<ScanConverter> vertical;
+    std::unique_ptr<OrientedScan> path;
+    if (s.axis == CylinderAxis::kPath) {
+        path = std::make_unique<OrientedScan>(s, n);
+        path->prepare_output(out);
+        add_oriented_scan_jobs(graph, *path, positions, output);
+    } else {
+        vertical = std::make_unique<ScanConverter>(s, n);
+        vertical->prepare_output(out);
+        add_scan_jobs(graph, *vertical, positions, output);
+    }
     time_graph(graph, req.repeat, result);
     result.groups = out.draw_count;
     result.isolated = out.sphere_count;
-    result.mesh = assemble_scan_mesh(out, scan.layout(), result.radius);
+    result.mesh = assemble_scan_mesh(out, vertical ? vertical->layout() : path->layout(), result.radius);
     result.hash = mesh_hash(result.mesh);
     return result;
 }

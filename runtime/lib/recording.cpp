@@ -98,7 +98,10 @@ Recording read_recording(const std::string& path) {
         r.scene = scene_from_json(doc.at("scene"), where + ": scene");
         r.method = parse_surface_method(doc.at("method").get<std::string>());
         if (r.method == SurfaceMethod::kScan) {
-            r.scan = scan_settings_from_json(doc.at("settings"), where + ": settings");
+            // Recordings from before the path axis existed were made with V-axis cylinders.
+            nlohmann::json settings = doc.at("settings");
+            if (settings.is_object() && !settings.contains("axis")) settings["axis"] = "vertical";
+            r.scan = scan_settings_from_json(settings, where + ": settings");
         } else if (r.method == SurfaceMethod::kSlices) {
             r.slices = slices_settings_from_json(doc.at("settings"), where + ": settings");
         } else if (r.method == SurfaceMethod::kVolume) {

@@ -5,6 +5,7 @@
 #include <initializer_list>
 
 #include "runtime/lib/frame_graph.h"
+#include "systems/scan/oriented_scan.h"
 #include "systems/scan/scan_converter.h"
 
 namespace rivulet {
@@ -18,5 +19,11 @@ struct ScanJobIds {
 ScanJobIds add_scan_jobs(FrameGraph& graph, ScanConverter& scan, std::function<ConstPositions()> positions,
                          std::function<ScanOutput&()> output,
                          std::initializer_list<FrameGraph::JobId> after = {});
+
+// The jobs of OrientedScan; returns its stage job.
+FrameGraph::JobId add_oriented_scan_jobs(FrameGraph& graph, OrientedScan& scan,
+                                         std::function<ConstPositions()> positions,
+                                         std::function<ScanOutput&()> output,
+                                         std::initializer_list<FrameGraph::JobId> after = {});
 
 }  // namespace rivulet

@@ -6,16 +6,19 @@
 
 namespace rivulet {
 
-ScanSurface::ScanSurface(const ScanSettings& settings, std::size_t max_particles)
-    : converter_(settings, max_particles) {
-    for (ScanOutput& out : out_) converter_.prepare_output(out);
+ScanSurface::ScanSurface(const ScanSettings& settings, std::size_t max_particles) {
+    if (settings.axis == CylinderAxis::kPath)
+        path_ = std::make_unique<OrientedScan>(settings, max_particles);
+    else
+        vertical_ = std::make_unique<ScanConverter>(settings, max_particles);
+    for (ScanOutput& out : out_) vertical_ ? vertical_->prepare_output(out) : path_->prepare_output(out);
 }
 
 FrameGraph::JobId ScanSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                         std::function<int()> slot, FrameGraph::JobId after) {
-    return add_scan_jobs(graph, converter_, std::move(positions),
-                         [this, slot = std::move(slot)]() -> ScanOutput& { return out_[slot()]; }, {after})
-        .stage;
+    auto output = [this, slot = std::move(slot)]() -> ScanOutput& { return out_[slot()]; };
+    if (path_) return add_oriented_scan_jobs(graph, *path_, std::move(positions), std::move(output), {after});
+    return add_scan_jobs(graph, *vertical_, std::move(positions), std::move(output), {after}).stage;
 }
 
 SurfaceStats ScanSurface::stats(int slot) const {
@@ -24,11 +27,12 @@ SurfaceStats ScanSurface::stats(int slot) const {
 }
 
 std::uint64_t ScanSurface::output_hash(int slot) const {
-    return frame_output_hash(out_[slot], converter_.layout());
+    return frame_output_hash(out_[slot], layout());
 }
 
 void ScanSurface::prepare_renderer(Renderer& renderer) const {
-    renderer.set_cylinder_pool(converter_.layout(), converter_.settings().max_groups);
+    renderer.set_cylinder_pool(layout(),
+                               vertical_ ? vertical_->settings().max_groups : path_->settings().max_groups);
 }
 
 void ScanSurface::fill_view(int slot, FrameView& view) const {

@@ -1,7 +1,10 @@
 #pragma once
 // Sphere scan conversion (Hoetzlein & Höllerer 2009) as the frame pipeline's surface: the jobs of scan_jobs.h
 // writing a cylinder pool and isolated spheres per slot.
+#include <memory>
 #include "runtime/lib/surface_system.h"
+
+#include "systems/scan/oriented_scan.h"
 #include "systems/scan/scan_converter.h"
 #include "systems/scan/scan_output.h"
 
@@ -20,7 +23,10 @@ class ScanSurface final : public SurfaceSystem {
     void fill_view(int slot, FrameView& view) const override;
 
   private:
-    ScanConverter converter_;
+    // One of the two, by settings.axis.
+    std::unique_ptr<ScanConverter> vertical_;
+    std::unique_ptr<OrientedScan> path_;
+    const CylinderLayout& layout() const { return vertical_ ? vertical_->layout() : path_->layout(); }
     std::array<ScanOutput, kFrameSlots> out_;
 };
 

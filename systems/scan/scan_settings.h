@@ -7,6 +7,10 @@
 
 namespace rivulet {
 
+// Where cylinders point: `kVertical` bins every group along the V axis (the paper); `kPath` orients each
+// along its stream's path (OrientedScan), so arcs and hoses stay round where they run sideways.
+enum class CylinderAxis : std::uint8_t { kVertical, kPath };
+
 // Parameters of sphere scan conversion (Hoetzlein & Höllerer 2009). Defaults follow the paper: U = 20,
 // V = 120, 150 cylinders, eps = 1.75 sphere diameters, circle maxima with 10 smoothing iterations.
 struct ScanSettings {
@@ -19,6 +23,7 @@ struct ScanSettings {
     CrossSectionParams section;
     float v_top = 3;     // y of the first cross-section plane
     float v_bottom = 0;  // y of the last cross-section plane
+    CylinderAxis axis = CylinderAxis::kPath;
 
     float grouping_distance() const { return epsilon > 0 ? epsilon : epsilon_diameters * 2.0f * radius; }
     // For particles meshed on their own (no scene to take the range from): planes from half a radius

@@ -12,7 +12,7 @@ template <class F>
 void members(ScanSettings& s, F&& f) {
     f("u", s.u), f("v", s.v), f("max_groups", s.max_groups), f("radius", s.radius), f("epsilon", s.epsilon);
     f("epsilon_diameters", s.epsilon_diameters), f("section", s.section), f("v_top", s.v_top);
-    f("v_bottom", s.v_bottom);
+    f("v_bottom", s.v_bottom), f("axis", s.axis);
 }
 
 // The radial function by the names the CLI uses (--radial).
@@ -27,6 +27,20 @@ void read(const nlohmann::json& j, RadialFunction& out, const std::string& where
 }
 nlohmann::json write(RadialFunction f) {
     return f == RadialFunction::kCircleMaxima ? "maxima" : "gaussian";
+}
+
+// Cylinder axes by the names the CLI uses (--axis).
+void read(const nlohmann::json& j, CylinderAxis& out, const std::string& where) {
+    if (j == "vertical") {
+        out = CylinderAxis::kVertical;
+    } else if (j == "path") {
+        out = CylinderAxis::kPath;
+    } else {
+        json_fields::fail(where, "expected \"vertical\" or \"path\"");
+    }
+}
+nlohmann::json write(CylinderAxis a) {
+    return a == CylinderAxis::kVertical ? "vertical" : "path";
 }
 
 nlohmann::json scan_settings_to_json(const ScanSettings& settings) {

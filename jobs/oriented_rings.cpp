@@ -1,0 +1,237 @@
+#include "jobs/oriented_rings.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "jobs/deform_cylinder.h"
+
+namespace rivulet {
+namespace {
+
+using Vec = Eigen::Vector3f;
+
+Vec position(ConstPositions p, std::uint32_t i) {
+    return {p.x[i], p.y[i], p.z[i]};
+}
+
+// The polyline the rings follow, with cumulative arc length.
+struct Path {
+    const RingScratch& s;
+    std::uint32_t points = 0;
+    std::uint32_t first_level_point = 0;  // the point of level 0 (1 when the path was extended back)
+
+    Vec at(std::uint32_t i) const { return {s.path_x[i], s.path_y[i], s.path_z[i]}; }
+    void set(std::uint32_t i, const Vec& v) { s.path_x[i] = v.x(), s.path_y[i] = v.y(), s.path_z[i] = v.z(); }
+    float length() const { return s.arc[points - 1]; }
+    void measure() {
+        s.arc[0] = 0;
+        for (std::uint32_t i = 1; i < points; ++i) s.arc[i] = s.arc[i - 1] + (at(i) - at(i - 1)).norm();
+    }
+    // The point at arc length t and its fractional point index.
+    Vec point(float t, float& index) const {
+        std::uint32_t i = 0;
+        while (i + 2 < points && s.arc[i + 1] <= t) ++i;
+        const float seg = s.arc[i + 1] - s.arc[i];
+        const float f = seg > 0 ? std::clamp((t - s.arc[i]) / seg, 0.0f, 1.0f) : 0.0f;
+        index = static_cast<float>(i) + f;
+        return at(i) + f * (at(i + 1) - at(i));
+    }
+};
+
+// A unit vector normal to t, from the world axis t leans on least.
+Vec any_normal(const Vec& t) {
+    Eigen::Index axis = 0;
+    t.cwiseAbs().minCoeff(&axis);
+    const Vec a = Vec::Unit(axis);
+    return (a - a.dot(t) * t).normalized();
+}
+
+// The level centroids as the path (a single level: its principal axis, Eigen's eigen-solver on the
+// covariance), smoothed, then extended to the end particles' centres along the end directions.
+Path build_path(ConstPositions p, std::span<const std::uint32_t> members,
+                std::span<const std::uint32_t> level, std::uint32_t first_level, std::uint32_t levels,
+                const RingScratch& s) {
+    Path path{s};
+    std::uint32_t m = 0, filled = 0;
+    for (std::uint32_t l = 0; l < levels; ++l) {
+        s.level_start[l] = m;
+        Vec sum = Vec::Zero();
+        std::uint32_t count = 0;
+        for (; m < members.size() && level[m] == first_level + l; ++m, ++count)
+            sum += position(p, members[m]);
+        if (count > 0) path.set(1 + filled++, sum / static_cast<float>(count));
+    }
+    s.level_start[levels] = m;
+    if (filled < 2) {
+        Vec mean = Vec::Zero();
+        for (const std::uint32_t i : members) mean += position(p, i);
+        mean /= static_cast<float>(members.size());
+        Eigen::Matrix3f cov = Eigen::Matrix3f::Zero();
+        for (const std::uint32_t i : members) {
+            const Vec d = position(p, i) - mean;
+            cov += d * d.transpose();
+        }
+        Vec axis = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f>(cov).eigenvectors().col(2);
+        if (!(axis.squaredNorm() > 0.5f)) axis = -Vec::UnitY();
+        float lo = 0, hi = 0;
+        for (const std::uint32_t i : members) {
+            const float t = (position(p, i) - mean).dot(axis);
+            lo = std::min(lo, t), hi = std::max(hi, t);
+        }
+        if (hi - lo < 1e-6f) lo -= 1e-6f, hi += 1e-6f;  // one particle: a sphere around it
+        path.set(0, mean + lo * axis), path.set(1, mean + hi * axis);
+        path.points = 2;
+        path.measure();
+        return path;
+    }
+    // Two passes of (1/4, 1/2, 1/4) over the inner centroids, whose jitter would bend the rings.
+    for (int pass = 0; pass < 2; ++pass) {
+        Vec prev = path.at(1);
+        for (std::uint32_t i = 2; i < filled; ++i) {
+            const Vec here = path.at(i);
+            path.set(i, 0.25f * prev + 0.5f * here + 0.25f * path.at(i + 1));
+            prev = here;
+        }
+    }
+    // Reach back to the farthest centre of the first level and on to that of the last.
+    const Vec t0 = (path.at(2) - path.at(1)).normalized();
+    const Vec t1 = (path.at(filled) - path.at(filled - 1)).normalized();
+    float back = 0, ahead = 0;
+    for (std::uint32_t k = 0; k < s.level_start[1]; ++k)
+        back = std::max(back, -(position(p, members[k]) - path.at(1)).dot(t0));
+    for (std::uint32_t k = s.level_start[levels - 1]; k < members.size(); ++k)
+        ahead = std::max(ahead, (position(p, members[k]) - path.at(filled)).dot(t1));
+    path.set(0, path.at(1) - back * t0);
+    path.set(filled + 1, path.at(filled) + ahead * t1);
+    path.points = filled + 2;
+    path.first_level_point = 1;
+    path.measure();
+    return path;
+}
+
+// Radii and frame of one ring, kept in the cylinder's block until the positions are written: the
+// side vertices' normal x holds r(theta_k), the top pole holds the centre and, in its normal, the
+// frame's first axis; the bottom pole's normal holds the second.
+struct RingSlots {
+    const CylinderLayout& layout;
+    std::span<float> v;
+    float* side(std::uint32_t ring, std::uint32_t k) const {
+        return v.data() + 6 * std::size_t(layout.side_vertex(ring, k));
+    }
+    float* top(std::uint32_t ring) const { return v.data() + 6 * std::size_t(layout.top_pole(ring)); }
+    float* bottom(std::uint32_t ring) const { return v.data() + 6 * std::size_t(layout.bottom_pole(ring)); }
+    static void put(float* at, const Vec& a) { at[0] = a.x(), at[1] = a.y(), at[2] = a.z(); }
+    static Vec get(const float* at) { return {at[0], at[1], at[2]}; }
+};
+
+}  // namespace
+
+std::uint32_t oriented_rings(ConstPositions p, std::span<const std::uint32_t> members,
+                             std::span<const std::uint32_t> level, std::uint32_t first_level,
+                             std::uint32_t levels, const OrientedRingParams& params, const RingScratch& s,
+                             std::span<float> vertices) {
+    const CylinderLayout& layout = params.layout;
+    const std::uint32_t u = layout.u;
+    const float radius = params.radius, r2 = radius * radius;
+    const Path path = build_path(p, members, level, first_level, levels, s);
+    const float length = path.length();
+    const float spacing = std::max(params.ring_spacing, 1e-9f);
+    const auto rings = static_cast<std::uint32_t>(
+        std::clamp(std::ceil(length / spacing) + 1.0f, 2.0f, static_cast<float>(layout.v)));
+    const float half_window = 0.5f * params.level_width;
+    const RingSlots slots{layout, vertices};
+
+    std::array<float, kMaxRingVertices> r, tmp;
+    Vec normal = Vec::Zero();
+    float reach_first = radius, reach_last = radius;
+    std::uint32_t filled = 0;
+    for (std::uint32_t ring = 0; ring < rings; ++ring) {
+        const float t = length * static_cast<float>(ring) / static_cast<float>(rings - 1);
+        float index = 0, ignored = 0;
+        const Vec centre = path.point(t, index);
+        Vec tangent = path.point(std::min(t + half_window, length), ignored) -
+                      path.point(std::max(t - half_window, 0.0f), ignored);
+        tangent = tangent.squaredNorm() > 0 ? tangent.normalized() : Vec(-Vec::UnitY());
+        normal = ring == 0 ? any_normal(tangent) : normal - normal.dot(tangent) * tangent;
+        if (!(normal.squaredNorm() > 1e-12f)) normal = any_normal(tangent);
+        normal.normalize();
+        const Vec binormal = tangent.cross(normal);  // normal x binormal = tangent: the pool's winding
+
+        // The levels around the ring's place on the path; their spheres that cut its plane.
+        const float level_f = std::clamp(index - static_cast<float>(path.first_level_point), 0.0f,
+                                         static_cast<float>(levels - 1));
+        const auto lo = static_cast<std::uint32_t>(std::max(0.0f, std::floor(level_f) - 1.0f));
+        const auto hi = std::min(levels, static_cast<std::uint32_t>(std::ceil(level_f)) + 2);
+        std::uint32_t circles = 0;
+        float reach_back = 0, reach_ahead = 0;
+        for (std::uint32_t k = s.level_start[lo]; k < s.level_start[hi]; ++k) {
+            const Vec d = position(p, members[k]) - centre;
+            const float h = d.dot(tangent);
+            if (!(h * h < r2)) continue;
+            s.circle_x[circles] = d.dot(normal), s.circle_z[circles] = d.dot(binormal);
+            s.circle_rho[circles] = std::sqrt(r2 - h * h);
+            reach_back = std::max(reach_back, radius - h), reach_ahead = std::max(reach_ahead, radius + h);
+            ++circles;
+        }
+        if (ring == 0 && circles > 0) reach_first = reach_back;
+        if (ring == rings - 1 && circles > 0) reach_last = reach_ahead;
+        const std::span<float> rs(r.data(), u), ts(tmp.data(), u);
+        if (circles > 0) {
+            const CirclesView view{s.circle_x.first(circles), s.circle_z.first(circles),
+                                   s.circle_rho.first(circles)};
+            if (params.section.function == RadialFunction::kCircleMaxima) {
+                circle_maxima(view, params.angles, rs);
+                smooth_cyclic(rs, params.section.smoothing_iterations, ts);
+            } else {
+                gaussian_blend(view, params.angles, params.section.tension, rs, ts);
+            }
+            ++filled;
+        } else {
+            std::fill(rs.begin(), rs.end(), -1.0f);  // none: filled in from the neighbours below
+        }
+        for (std::uint32_t k = 0; k < u; ++k) slots.side(ring, k)[3] = r[k];
+        RingSlots::put(slots.top(ring), centre);
+        RingSlots::put(slots.top(ring) + 3, normal);
+        RingSlots::put(slots.bottom(ring) + 3, binormal);
+        RingSlots::put(slots.bottom(ring), tangent);
+    }
+
+    // Rings no sphere cut: the radii of the rings that have some, linearly between them.
+    for (std::uint32_t ring = 0; ring < rings; ++ring) {
+        if (slots.side(ring, 0)[3] >= 0) continue;
+        std::uint32_t before = ring, after = ring;
+        while (before > 0 && slots.side(before, 0)[3] < 0) --before;
+        while (after + 1 < rings && slots.side(after, 0)[3] < 0) ++after;
+        const bool has_before = slots.side(before, 0)[3] >= 0, has_after = slots.side(after, 0)[3] >= 0;
+        for (std::uint32_t k = 0; k < u; ++k) {
+            float value = radius;
+            if (filled > 0 && has_before && has_after) {
+                const float f = static_cast<float>(ring - before) / static_cast<float>(after - before);
+                value = slots.side(before, k)[3] + f * (slots.side(after, k)[3] - slots.side(before, k)[3]);
+            } else if (filled > 0) {
+                value = slots.side(has_before ? before : after, k)[3];
+            }
+            slots.side(ring, k)[3] = value;
+        }
+    }
+
+    for (std::uint32_t ring = 0; ring < rings; ++ring) {
+        const Vec centre = RingSlots::get(slots.top(ring));
+        const Vec n = RingSlots::get(slots.top(ring) + 3), b = RingSlots::get(slots.bottom(ring) + 3);
+        const Vec tangent = RingSlots::get(slots.bottom(ring));
+        for (std::uint32_t k = 0; k < u; ++k) {
+            float* v = slots.side(ring, k);
+            RingSlots::put(v, centre + v[3] * (params.angles.cos_t[k] * n + params.angles.sin_t[k] * b));
+        }
+        // Inner rings' poles are never drawn; they stay at the centre so the block is deterministic.
+        const float back = ring == 0 ? std::min(reach_first, 2 * radius) : 0.0f;
+        const float ahead = ring == rings - 1 ? std::min(reach_last, 2 * radius) : 0.0f;
+        RingSlots::put(slots.top(ring), centre - back * tangent);
+        RingSlots::put(slots.bottom(ring), centre + ahead * tangent);
+    }
+    return rings;
+}
+
+}  // namespace rivulet

@@ -1,0 +1,44 @@
+#pragma once
+// One branch of a stream (stream_skeleton.h) as a cylinder of the pool whose rings follow the stream's
+// path instead of the V axis. The path is the polyline of the branch's level centroids, smoothed and
+// extended to its end particles; rings sit at even arc length along it, each in the plane normal to the
+// path there (so two neighbouring rings' bands form one piece with its own axis, and every joint is the
+// bisecting plane of its two pieces), with frames carried along by parallel transport, so the tube
+// does not twist. A ring's radii come from the spheres that cut its plane, by the seed's radial functions
+// (cross_section.h); the end rings' poles close the tube one sphere beyond the end particles. A ring
+// no sphere cuts takes its radii from the nearest rings that have some.
+#include <cstdint>
+#include <span>
+
+#include "jobs/cross_section.h"
+#include "jobs/cylinder_layout.h"
+#include "jobs/particle_spans.h"
+
+namespace rivulet {
+
+struct OrientedRingParams {
+    CylinderLayout layout;
+    float radius = 0;        // sphere radius
+    float level_width = 0;   // the skeleton's level width (its link distance)
+    float ring_spacing = 0;  // wanted arc length between rings; stretched so a branch fits layout.v rings
+    CrossSectionParams section;
+    AngleTable angles;  // layout.u entries
+};
+
+// Scratch of one branch: `path_*` and `arc` as long as its level count + 2, the circles as long as its
+// members.
+struct RingScratch {
+    std::span<float> path_x, path_y, path_z, arc, circle_x, circle_z, circle_rho;
+    std::span<std::uint32_t> level_start;  // level count + 1
+};
+
+// `members` (particle indices) sorted by `level` (absolute levels, the first being `first_level`, `levels`
+// of them). Writes the positions of rings [0, result) of `vertices` (one cylinder's block, 6 floats per
+// vertex; the normal slots are used as scratch and left for cylinder_normals) and returns the ring count,
+// at least 2 and at most layout.v.
+std::uint32_t oriented_rings(ConstPositions p, std::span<const std::uint32_t> members,
+                             std::span<const std::uint32_t> level, std::uint32_t first_level,
+                             std::uint32_t levels, const OrientedRingParams& params,
+                             const RingScratch& scratch, std::span<float> vertices);
+
+}  // namespace rivulet

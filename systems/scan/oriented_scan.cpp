@@ -1,0 +1,286 @@
+#include "systems/scan/oriented_scan.h"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "jobs/cylinder_normals.h"
+#include "jobs/isolated_particles.h"
+#include "jobs/oriented_rings.h"
+
+namespace rivulet {
+
+OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particles)
+    : settings_(settings), max_particles_(max_particles) {
+    if (const std::string err = settings.validate(); !err.empty()) throw std::invalid_argument(err);
+    if (max_particles == 0 || max_particles > (std::size_t(1) << 30))
+        throw std::invalid_argument("particle capacity must be in [1, 2^30], got " +
+                                    std::to_string(max_particles));
+    layout_ = {settings.u, settings.v};
+    const double bytes = 4.0 * (40.0 * double(max_particles) +
+                                6.0 * double(settings.max_groups) * layout_.verts_per_cylinder());
+    if (bytes > double(std::uint64_t{4} << 30))
+        throw std::invalid_argument(fmt::format(
+            "oriented scan conversion buffers for --max-groups {}, --u {}, --v {} and {} particles would "
+            "take {:.1f} GiB (limit 4 GiB): lower them",
+            settings.max_groups, settings.u, settings.v, max_particles, bytes / double(1 << 30)));
+    cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
+    for (std::uint32_t k = 0; k < settings.u; ++k) {
+        const double theta = 2.0 * std::numbers::pi * k / settings.u;
+        cos_t_[k] = static_cast<float>(std::cos(theta));
+        sin_t_[k] = static_cast<float>(std::sin(theta));
+    }
+    const std::size_t n = max_particles;
+    heads_.reserve(cell_hash_table_size(n) + 1), order_.reserve(n);
+    sorted_x_.reserve(n), sorted_y_.reserve(n), sorted_z_.reserve(n);
+    cell_key_.reserve(n), by_cell_.reserve(n), bead_first_.reserve(n + 1);
+    bead_x_.reserve(n), bead_y_.reserve(n), bead_z_.reserve(n);
+    particle_at_.reserve(n + 1), branch_particles_.reserve(n), branch_levels_.reserve(n);
+    for (auto* a :
+         {&root_,      &members_,      &member_pos_,   &component_first_, &component_end_,   &heap_,
+          &heap_pos_,  &level_,        &node_,         &sort_order_,      &link_root_,       &node_level_,
+          &node_size_, &node_weight_,  &node_parents_, &node_children_,   &node_first_edge_, &node_branch_,
+          &node_mode_, &branch_counts_})
+        a->reserve(n);
+    dist_.reserve(n);
+    edge_from_.reserve(2 * n), edge_to_.reserve(2 * n);
+    branch_ranges_.reserve(n);
+    drawn_component_.reserve(settings.max_groups), drawn_branch_.reserve(settings.max_groups);
+    ring_count_.reserve(settings.max_groups);
+    // A branch's path has its levels + 2 points (levels <= members) and its level table levels + 1.
+    const std::size_t path = n + 2 * std::size_t(settings.max_groups);
+    path_x_.reserve(path), path_y_.reserve(path), path_z_.reserve(path), arc_.reserve(path);
+    level_start_.reserve(n + settings.max_groups);
+    circle_x_.reserve(n), circle_z_.reserve(n), circle_rho_.reserve(n);
+    grouped_.reserve(n);
+}
+
+void OrientedScan::prepare_output(ScanOutput& out) const {
+    out.vertices.reserve(std::size_t(settings_.max_groups) * layout_.verts_per_cylinder() * 6);
+    out.draws.reserve(settings_.max_groups);
+    out.sphere_centers.reserve(max_particles_ * 3);
+}
+
+float OrientedScan::bead_link() const {
+    return kBeadLink * settings_.grouping_distance();
+}
+
+ConstPositions OrientedScan::bead_positions() const {
+    return {bead_x_.span(beads_), bead_y_.span(beads_), bead_z_.span(beads_)};
+}
+
+void OrientedScan::link(ConstPositions p) {
+    if (p.size() > max_particles_)
+        throw std::length_error("scan conversion capacity " + std::to_string(max_particles_) +
+                                " exceeded by " + std::to_string(p.size()) + " particles");
+    particles_ = p.size();
+    components_ = 0, drawn_ = 0, undrawn_ = 0, beads_ = 0;
+    if (particles_ == 0) return;
+    const auto n = static_cast<std::uint32_t>(particles_);
+    const float link = bead_link(), cell = kBeadCell * settings_.grouping_distance();
+    float lo[3] = {p.x[0], p.y[0], p.z[0]}, hi[3] = {lo[0], lo[1], lo[2]};
+    for (std::uint32_t i = 0; i < n; ++i) {
+        lo[0] = std::min(lo[0], p.x[i]), lo[1] = std::min(lo[1], p.y[i]), lo[2] = std::min(lo[2], p.z[i]);
+        hi[0] = std::max(hi[0], p.x[i]), hi[1] = std::max(hi[1], p.y[i]), hi[2] = std::max(hi[2], p.z[i]);
+    }
+    for (int a = 0; a < 3; ++a)
+        if (!(double(hi[a]) - double(lo[a]) < double(cell) * (1 << 20)))
+            throw std::invalid_argument(fmt::format(
+                "particles span {:.0f} grouping distances along an axis (or are not finite): raise --epsilon",
+                (double(hi[a]) - double(lo[a])) / link));
+
+    // Beads: particles sorted by (cell, index); each cell's particles at their centroid.
+    const float inv = 1.0f / cell;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const auto ix = static_cast<std::uint64_t>((p.x[i] - lo[0]) * inv);
+        const auto iy = static_cast<std::uint64_t>((p.y[i] - lo[1]) * inv);
+        const auto iz = static_cast<std::uint64_t>((p.z[i] - lo[2]) * inv);
+        cell_key_[i] = (iz << 42) | (iy << 21) | ix;
+        by_cell_[i] = i;
+    }
+    std::sort(by_cell_.data(), by_cell_.data() + n, [this](std::uint32_t a, std::uint32_t b) {
+        return cell_key_[a] < cell_key_[b] || (cell_key_[a] == cell_key_[b] && a < b);
+    });
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const std::uint32_t i = by_cell_[k];
+        if (k == 0 || cell_key_[i] != cell_key_[by_cell_[k - 1]]) {
+            if (beads_ > 0) {
+                const float inv_count = 1.0f / static_cast<float>(k - bead_first_[beads_ - 1]);
+                bead_x_[beads_ - 1] *= inv_count, bead_y_[beads_ - 1] *= inv_count,
+                    bead_z_[beads_ - 1] *= inv_count;
+            }
+            bead_first_[beads_] = k;
+            bead_x_[beads_] = bead_y_[beads_] = bead_z_[beads_] = 0;
+            ++beads_;
+        }
+        bead_x_[beads_ - 1] += p.x[i], bead_y_[beads_ - 1] += p.y[i], bead_z_[beads_ - 1] += p.z[i];
+    }
+    const float inv_last = 1.0f / static_cast<float>(n - bead_first_[beads_ - 1]);
+    bead_x_[beads_ - 1] *= inv_last, bead_y_[beads_ - 1] *= inv_last, bead_z_[beads_ - 1] *= inv_last;
+    bead_first_[beads_] = n;
+
+    const ConstPositions b = bead_positions();
+    hash_ = build_cell_hash(b, lo, link, heads_.span(heads_.capacity()), order_.span(beads_));
+    sort_cell_hash_positions(hash_, b, sorted_x_.span(beads_), sorted_y_.span(beads_),
+                             sorted_z_.span(beads_));
+    link_components(b, hash_, link, root_.span(beads_));
+
+    // Beads grouped by component (in order of their lowest bead), ascending within. A component of one
+    // bead of one particle is an isolated sphere.
+    const std::span<std::uint32_t> cursor = heap_.span(beads_);  // per root: size, then cursor
+    std::fill(cursor.begin(), cursor.end(), 0u);
+    for (std::uint32_t i = 0; i < beads_; ++i) ++cursor[root_[i]];
+    std::uint32_t next = 0;
+    for (std::uint32_t i = 0; i < beads_; ++i) {
+        if (root_[i] != i) continue;
+        const std::uint32_t size = cursor[i];
+        cursor[i] = next;
+        if (size >= 2 || bead_first_[i + 1] - bead_first_[i] >= 2) {
+            component_first_[components_] = next;
+            component_end_[components_] = next + size;
+            ++components_;
+        }
+        next += size;
+    }
+    for (std::uint32_t i = 0; i < beads_; ++i) members_[cursor[root_[i]]++] = i;
+}
+
+SkeletonScratch OrientedScan::scratch(std::uint32_t c) {
+    const std::size_t first = component_first_[c], count = component_end_[c] - first;
+    auto at = [&](AlignedArray<std::uint32_t>& a) { return a.span(max_particles_).subspan(first, count); };
+    return {dist_.span(max_particles_).subspan(first, count),
+            at(heap_),
+            at(heap_pos_),
+            at(level_),
+            at(node_),
+            at(sort_order_),
+            at(link_root_),
+            at(node_level_),
+            at(node_size_),
+            at(node_weight_),
+            at(node_parents_),
+            at(node_children_),
+            at(node_first_edge_),
+            at(node_branch_),
+            at(node_mode_),
+            edge_from_.span(2 * max_particles_).subspan(2 * first, 2 * count),
+            edge_to_.span(2 * max_particles_).subspan(2 * first, 2 * count)};
+}
+
+void OrientedScan::skeleton(ConstPositions, std::uint32_t c) {
+    const std::uint32_t first = component_first_[c], count = component_end_[c] - first;
+    const std::span<std::uint32_t> members = members_.span(max_particles_).subspan(first, count);
+    for (std::uint32_t k = 0; k < count; ++k) member_pos_[members[k]] = k;
+    const SkeletonParams params{bead_link(), kMinBranchBeads};
+    branch_counts_[c] =
+        stream_skeleton(bead_positions(), hash_, params, members, member_pos_.span(beads_), scratch(c),
+                        branch_ranges_.span(max_particles_).subspan(first, count));
+}
+
+void OrientedScan::cylinders() {
+    drawn_ = 0, undrawn_ = 0;
+    for (std::uint32_t c = 0; c < components_; ++c)
+        for (std::uint32_t b = 0; b < branch_counts_[c]; ++b) {
+            if (drawn_ == settings_.max_groups) {
+                ++undrawn_;
+                continue;
+            }
+            drawn_component_[drawn_] = c, drawn_branch_[drawn_] = b;
+            ++drawn_;
+        }
+    // Where each member bead's particles go in the drawn branches' particle lists.
+    std::uint32_t at = 0;
+    for (std::uint32_t c = 0; c < components_; ++c)
+        for (std::uint32_t m = component_first_[c]; m < component_end_[c]; ++m) {
+            particle_at_[m] = at;
+            at += bead_first_[members_[m] + 1] - bead_first_[members_[m]];
+        }
+}
+
+const BranchRange& OrientedScan::drawn_range(std::uint32_t d) const {
+    return branch_ranges_[component_first_[drawn_component_[d]] + drawn_branch_[d]];
+}
+
+std::span<const std::uint32_t> OrientedScan::branch_particles(std::uint32_t d) const {
+    const BranchRange& r = drawn_range(d);
+    const std::uint32_t first = component_first_[drawn_component_[d]] + r.begin;
+    const std::uint32_t end = first + r.count;
+    const std::uint32_t from = particle_at_[first];
+    const std::uint32_t to =
+        particle_at_[end - 1] + bead_first_[members_[end - 1] + 1] - bead_first_[members_[end - 1]];
+    return branch_particles_.span(max_particles_).subspan(from, to - from);
+}
+
+void OrientedScan::rings(ConstPositions p, std::uint32_t d, ScanOutput& out) {
+    const BranchRange& r = drawn_range(d);
+    const std::uint32_t first = component_first_[drawn_component_[d]] + r.begin;
+    // The branch's particles in the order of its beads, so by level.
+    const std::uint32_t from = particle_at_[first];
+    std::uint32_t count = 0;
+    for (std::uint32_t m = first; m < first + r.count; ++m) {
+        const std::uint32_t bead = members_[m];
+        for (std::uint32_t k = bead_first_[bead]; k < bead_first_[bead + 1]; ++k, ++count) {
+            branch_particles_[from + count] = by_cell_[k];
+            branch_levels_[from + count] = level_[m];
+        }
+    }
+    const std::size_t path_at = first + 2 * std::size_t(d), table_at = first + d;
+    const RingScratch scratch{path_x_.span(path_x_.capacity()).subspan(path_at, r.levels + 2),
+                              path_y_.span(path_y_.capacity()).subspan(path_at, r.levels + 2),
+                              path_z_.span(path_z_.capacity()).subspan(path_at, r.levels + 2),
+                              arc_.span(arc_.capacity()).subspan(path_at, r.levels + 2),
+                              circle_x_.span(max_particles_).subspan(from, count),
+                              circle_z_.span(max_particles_).subspan(from, count),
+                              circle_rho_.span(max_particles_).subspan(from, count),
+                              level_start_.span(level_start_.capacity()).subspan(table_at, r.levels + 1)};
+    const OrientedRingParams params{layout_,           settings_.radius,
+                                    bead_link(),       settings_.radius,
+                                    settings_.section, {cos_t_.span(layout_.u), sin_t_.span(layout_.u)}};
+    const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
+    ring_count_[d] =
+        oriented_rings(p, branch_particles_.span(max_particles_).subspan(from, count),
+                       branch_levels_.span(max_particles_).subspan(from, count), r.first_level, r.levels,
+                       params, scratch, out.vertices.span(out.vertices.capacity()).subspan(d * vpc, vpc));
+}
+
+void OrientedScan::normals(std::uint32_t d, ScanOutput& out) {
+    const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
+    const std::uint32_t last = ring_count_[d] - 1;
+    cylinder_normals(layout_, 0, last, 0, last,
+                     out.vertices.span(out.vertices.capacity()).subspan(d * vpc, vpc));
+}
+
+void OrientedScan::isolated(ConstPositions p, ScanOutput& out) {
+    const std::span<std::uint8_t> grouped = grouped_.span(particles_);
+    std::fill(grouped.begin(), grouped.end(), std::uint8_t{0});
+    for (std::uint32_t d = 0; d < drawn_; ++d)
+        for (const std::uint32_t i : branch_particles(d)) grouped[i] = 1;
+    out.sphere_count = collect_isolated(p, grouped, out.sphere_centers.span(particles_ * 3));
+}
+
+void OrientedScan::stage(ScanOutput& out) {
+    std::uint64_t triangles = 0;
+    for (std::uint32_t d = 0; d < drawn_; ++d) {
+        out.draws[d] = {d, 0, ring_count_[d] - 1};
+        triangles += 2ull * layout_.u * (ring_count_[d] - 1) + 2ull * layout_.u;
+    }
+    out.draw_count = drawn_;
+    out.bin_entries = static_cast<std::uint32_t>(particles_);
+    out.pool_exhausted = undrawn_;
+    out.triangles = triangles;
+}
+
+void OrientedScan::extract_serial(ConstPositions p, ScanOutput& out) {
+    link(p);
+    for (std::uint32_t c = 0; c < components_; ++c) skeleton(p, c);
+    cylinders();
+    for (std::uint32_t d = 0; d < drawn_; ++d) rings(p, d, out);
+    for (std::uint32_t d = 0; d < drawn_; ++d) normals(d, out);
+    isolated(p, out);
+    stage(out);
+}
+
+}  // namespace rivulet

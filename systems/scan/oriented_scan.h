@@ -1,0 +1,98 @@
+#pragma once
+// Sphere scan conversion with cylinders oriented along each stream (`axis: path`; the seed's future work):
+// the same cylinder pool, output and renderer as ScanConverter, with the V-axis bins and groups replaced
+// by the stream's own path (jobs/stream_skeleton.h, jobs/oriented_rings.h). Jobs of a frame, in order
+// (* = independent items, run in parallel):
+//
+//   link               beads: the particles of each cell of half the grouping distance, at their centroid
+//                      (a stream holds tens of particles per link, the path needs a few points per link);
+//                      components of beads within the grouping distance
+//   -> skeleton(c)*    per component of two or more particles: geodesic levels, nodes, branches of beads
+//   -> cylinders       a pool cylinder per branch, in component order (beyond the pool: spheres)
+//   -> rings(b)*       per branch: path, ring frames, radii, positions
+//   -> normals(b)*     per branch (jobs/cylinder_normals.h)
+//   -> isolated, stage
+#include <cstdint>
+
+#include "jobs/cell_hash.h"
+#include "jobs/cylinder_layout.h"
+#include "jobs/particle_spans.h"
+#include "jobs/stream_skeleton.h"
+#include "systems/particles/aligned_array.h"
+#include "systems/scan/scan_output.h"
+#include "systems/scan/scan_settings.h"
+
+namespace rivulet {
+
+class OrientedScan {
+  public:
+    // Throws std::invalid_argument when settings.validate() fails.
+    OrientedScan(const ScanSettings& settings, std::size_t max_particles);
+
+    const ScanSettings& settings() const { return settings_; }
+    const CylinderLayout& layout() const { return layout_; }
+    void prepare_output(ScanOutput& out) const;
+
+    // ---- per-frame jobs; `p` must be the same positions for every job of a frame ----
+    void link(ConstPositions p);
+    std::uint32_t components() const { return components_; }
+    void skeleton(ConstPositions p, std::uint32_t component);
+    void cylinders();
+    std::uint32_t branches() const { return drawn_; }
+    void rings(ConstPositions p, std::uint32_t branch, ScanOutput& out);
+    void normals(std::uint32_t branch, ScanOutput& out);
+    void isolated(ConstPositions p, ScanOutput& out);
+    void stage(ScanOutput& out);
+
+    void extract_serial(ConstPositions p, ScanOutput& out);
+
+    // A drawn branch's particles (for tests and the hybrid method's ownership rule).
+    std::span<const std::uint32_t> branch_particles(std::uint32_t branch) const;
+    std::uint32_t branch_rings(std::uint32_t branch) const { return ring_count_[branch]; }
+
+  private:
+    // A fork's child branch needs this many beads (with its subtree) to stand apart.
+    static constexpr std::uint32_t kMinBranchBeads = 3;
+    // Bead cells one grouping distance wide, beads linked within 1.5 of it (a bead's centroid sits anywhere
+    // in its cell, so two linked particles' beads can be farther apart than they are). On the fountain
+    // these find the same streams as half-width cells at a third of the cost.
+    static constexpr float kBeadCell = 1.0f;
+    static constexpr float kBeadLink = 1.5f;
+    float bead_link() const;
+    ScanSettings settings_;
+    CylinderLayout layout_;
+    std::size_t max_particles_;
+    std::size_t particles_ = 0;
+    AlignedArray<float> cos_t_, sin_t_;
+
+    CellHash hash_;
+    AlignedArray<std::uint32_t> heads_, order_;
+    AlignedArray<float> sorted_x_, sorted_y_, sorted_z_;
+    AlignedArray<std::uint64_t> cell_key_;
+    AlignedArray<std::uint32_t> by_cell_, bead_first_;  // particles by cell; bead b's: [first[b], first[b+1])
+    AlignedArray<float> bead_x_, bead_y_, bead_z_;
+    std::uint32_t beads_ = 0;
+    ConstPositions bead_positions() const;
+    // Beads grouped by component; a drawn branch's particles, by level, at particle_at_[its first bead].
+    AlignedArray<std::uint32_t> root_, members_, member_pos_, component_first_, component_end_, particle_at_;
+    AlignedArray<std::uint32_t> branch_particles_, branch_levels_;
+    std::uint32_t components_ = 0;
+
+    AlignedArray<float> dist_;
+    AlignedArray<std::uint32_t> heap_, heap_pos_, level_, node_, sort_order_, link_root_;
+    AlignedArray<std::uint32_t> node_level_, node_size_, node_weight_, node_parents_, node_children_,
+        node_first_edge_, node_branch_, node_mode_, edge_from_, edge_to_;
+    SkeletonScratch scratch(std::uint32_t component);
+    AlignedArray<BranchRange> branch_ranges_;
+    const BranchRange& drawn_range(std::uint32_t drawn) const;  // component c's at [component_first_[c], ...)
+    AlignedArray<std::uint32_t> branch_counts_;
+
+    // Drawn branches (pool cylinders), in component order.
+    std::uint32_t drawn_ = 0, undrawn_ = 0;
+    AlignedArray<std::uint32_t> drawn_component_, drawn_branch_, ring_count_;
+    AlignedArray<float> path_x_, path_y_, path_z_, arc_, circle_x_, circle_z_, circle_rho_;
+    AlignedArray<std::uint32_t> level_start_;
+    AlignedArray<std::uint8_t> grouped_;
+};
+
+}  // namespace rivulet
