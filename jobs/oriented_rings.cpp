@@ -128,10 +128,10 @@ struct RingSlots {
 
 }  // namespace
 
-std::uint32_t oriented_rings(ConstPositions p, std::span<const std::uint32_t> members,
-                             std::span<const std::uint32_t> level, std::uint32_t first_level,
-                             std::uint32_t levels, const OrientedRingParams& params, const RingScratch& s,
-                             std::span<float> vertices) {
+OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> members,
+                            std::span<const std::uint32_t> level, std::uint32_t first_level,
+                            std::uint32_t levels, const OrientedRingParams& params, const RingScratch& s,
+                            std::span<float> vertices) {
     const CylinderLayout& layout = params.layout;
     const std::uint32_t u = layout.u;
     const float radius = params.radius, r2 = radius * radius;
@@ -217,21 +217,25 @@ std::uint32_t oriented_rings(ConstPositions p, std::span<const std::uint32_t> me
         }
     }
 
+    float widest = 0;
     for (std::uint32_t ring = 0; ring < rings; ++ring) {
         const Vec centre = RingSlots::get(slots.top(ring));
         const Vec n = RingSlots::get(slots.top(ring) + 3), b = RingSlots::get(slots.bottom(ring) + 3);
         const Vec tangent = RingSlots::get(slots.bottom(ring));
+        float sum = 0;
         for (std::uint32_t k = 0; k < u; ++k) {
             float* v = slots.side(ring, k);
+            sum += v[3];
             RingSlots::put(v, centre + v[3] * (params.angles.cos_t[k] * n + params.angles.sin_t[k] * b));
         }
+        widest = std::max(widest, sum / static_cast<float>(u));
         // Inner rings' poles are never drawn; they stay at the centre so the block is deterministic.
         const float back = ring == 0 ? std::min(reach_first, 2 * radius) : 0.0f;
         const float ahead = ring == rings - 1 ? std::min(reach_last, 2 * radius) : 0.0f;
         RingSlots::put(slots.top(ring), centre - back * tangent);
         RingSlots::put(slots.bottom(ring), centre + ahead * tangent);
     }
-    return rings;
+    return {rings, length, widest};
 }
 
 }  // namespace rivulet

@@ -32,13 +32,20 @@ struct RingScratch {
     std::span<std::uint32_t> level_start;  // level count + 1
 };
 
+// What one branch became: its ring count (at least 2, at most layout.v), its path's length and its
+// widest ring's mean radius (what tells a stream from a blob).
+struct OrientedTube {
+    std::uint32_t rings = 0;
+    float length = 0;
+    float widest = 0;
+};
+
 // `members` (particle indices) sorted by `level` (absolute levels, the first being `first_level`, `levels`
 // of them). Writes the positions of rings [0, result) of `vertices` (one cylinder's block, 6 floats per
-// vertex; the normal slots are used as scratch and left for cylinder_normals) and returns the ring count,
-// at least 2 and at most layout.v.
-std::uint32_t oriented_rings(ConstPositions p, std::span<const std::uint32_t> members,
-                             std::span<const std::uint32_t> level, std::uint32_t first_level,
-                             std::uint32_t levels, const OrientedRingParams& params,
-                             const RingScratch& scratch, std::span<float> vertices);
+// vertex; the normal slots are used as scratch and left for cylinder_normals).
+OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> members,
+                            std::span<const std::uint32_t> level, std::uint32_t first_level,
+                            std::uint32_t levels, const OrientedRingParams& params,
+                            const RingScratch& scratch, std::span<float> vertices);
 
 }  // namespace rivulet

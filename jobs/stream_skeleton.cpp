@@ -184,6 +184,9 @@ std::uint32_t assign_branches(std::uint32_t nodes, const SkeletonParams& params,
     }
     std::fill_n(s.node_branch.begin(), nodes, kNone);
     std::fill_n(s.node_mode.begin(), nodes, std::uint32_t{kStart});
+    const auto thick = [&](std::uint32_t node) {
+        return params.thick_node > 0 && s.node_size[node] > params.thick_node;
+    };
     std::uint32_t branches = 0;
     for (std::uint32_t a = 0; a < nodes; ++a) {
         if (s.node_branch[a] == kNone) s.node_branch[a] = branches++, s.node_mode[a] = kStart;
@@ -202,7 +205,7 @@ std::uint32_t assign_branches(std::uint32_t nodes, const SkeletonParams& params,
                 heavy > 0 ? s.node_weight[c] >= params.min_branch_particles : c == heaviest;
             if (s.node_mode[a] == kAbsorb || !significant) {
                 s.node_branch[c] = branch, s.node_mode[c] = kAbsorb;
-            } else if ((heavy <= 1) && s.node_parents[c] == 1) {
+            } else if (heavy <= 1 && s.node_parents[c] == 1 && thick(a) == thick(c)) {
                 s.node_branch[c] = branch, s.node_mode[c] = kContinue;
             }
         }

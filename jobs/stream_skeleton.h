@@ -24,6 +24,9 @@ namespace rivulet {
 struct SkeletonParams {
     float link = 0;                          // grouping distance: particles closer than this are linked
     std::uint32_t min_branch_particles = 8;  // a fork's child below this (with its subtree) is absorbed
+    // When not 0, a node of more members than this is thick, and a chain changing between thin and thick
+    // nodes starts a new branch there (the hybrid method cuts streams from the blobs they run into).
+    std::uint32_t thick_node = 0;
 };
 
 // Scratch of one component, every span as long as its member count unless said otherwise.

@@ -37,6 +37,7 @@ std::map<std::string, bool> pipeline_jobs() {
         add(make_builtin_scene("fountain"), m, 0.0f);
     add(make_builtin_scene("fountain"), SurfaceMethod::kSlices, kDefaultAnisotropy);
     add(make_builtin_scene("fountain"), SurfaceMethod::kScan, 0.0f, CylinderAxis::kVertical);
+    add(make_builtin_scene("faucet"), SurfaceMethod::kHybrid);
     SceneDesc dam = make_builtin_scene("dambreak");
     add(dam, SurfaceMethod::kScan);
     dam.sph.solver = SphSolver::kWcsph;

@@ -76,6 +76,7 @@ nlohmann::json mesh_json(const MeshResult& r, const std::string& method) {
         j["grid"] = {g.samples_x(), g.samples_y(), g.samples_z()};
     } else {
         j["groups"] = r.groups, j["isolated"] = r.isolated;
+        if (method == "hybrid") j["blocks"] = r.blocks;
     }
     return j;
 }

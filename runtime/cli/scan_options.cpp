@@ -79,21 +79,22 @@ void add_method_option(CLI::App& cmd, std::string& method, bool rendered) {
         "--method", method,
         rendered ? "Surface method: scan (sphere scan conversion), slices (marching slices), "
                    "screen (screen-space fluid, drawn without a mesh), volume (density volume, "
-                   "raycast) or sprites (the particles of a diffuse object; default for diffuse "
-                   "scenes, scan otherwise)"
-                 : "Surface method: scan (sphere scan conversion), slices (marching slices) or volume "
-                   "(density volume: marching cubes, or an OpenVDB grid with --out FILE.vdb)");
+                   "raycast), hybrid (streams as scan cylinders, the rest as slices) or sprites (the "
+                   "particles of a diffuse object; default for diffuse scenes, scan otherwise)"
+                 : "Surface method: scan (sphere scan conversion), slices (marching slices), volume "
+                   "(density volume: marching cubes, or an OpenVDB grid with --out FILE.vdb) or hybrid "
+                   "(streams as scan cylinders, the rest as slices)");
     if (!rendered) opt->capture_default_str();
     opt->check(CLI::Validator(
         [rendered](std::string& m) -> std::string {
-            if (m == "scan" || m == "slices" || m == "volume" ||
+            if (m == "scan" || m == "slices" || m == "volume" || m == "hybrid" ||
                 (rendered && (m == "screen" || m == "sprites")))
                 return {};
             if (m == "sprites")
                 return "'sprites' draws a diffuse object and makes no mesh: use it with 'run'";
             if (m == "screen") return "'screen' draws the fluid and makes no mesh: use it with 'run'";
-            return fmt::format("'{}' is not a surface method: choose 'scan', 'slices', 'volume'{}", m,
-                               rendered ? ", 'screen' or 'sprites'" : "");
+            return fmt::format("'{}' is not a surface method: choose 'scan', 'slices', 'volume', 'hybrid'{}",
+                               m, rendered ? ", 'screen' or 'sprites'" : "");
         },
         "METHOD"));
 }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "runtime/lib/frame_graph.h"
+#include "runtime/lib/hybrid_extractor.h"
 #include "runtime/lib/scan_jobs.h"
 #include "runtime/lib/slices_jobs.h"
 #include "runtime/lib/stage_summary.h"
@@ -91,6 +92,32 @@ void extract_volume(const ParticleSet& particles, const MeshSettings& req, MeshR
     result.volume = std::move(volume);
 }
 
+// Streams as cylinders, the rest as marching slices: one mesh of the cylinders and spheres, then the
+// slices' welded mesh.
+void extract_hybrid(const ParticleSet& particles, const MeshSettings& req, MeshResult& result,
+                    const ScanSettings& scan) {
+    SlicesSettings s = req.slices;
+    s.radius = result.radius;
+    HybridExtractor hybrid(scan, s, particles.size());
+    ScanOutput cylinders;
+    hybrid.prepare_output(cylinders);
+    SurfaceMesh mesh;
+    FrameGraph graph;
+    hybrid.add_jobs(
+        graph, [&particles] { return particles.positions(); },
+        [&cylinders]() -> ScanOutput& { return cylinders; }, [&mesh]() -> SurfaceMesh& { return mesh; });
+    time_graph(graph, req.repeat, result);
+    result.groups = cylinders.draw_count;
+    result.isolated = cylinders.sphere_count;
+    result.blocks = hybrid.slices().stats().active_blocks;
+    result.mesh = assemble_scan_mesh(cylinders, hybrid.scan().layout(), result.radius);
+    const TriangleMeshView view = mesh.view();
+    const auto base = static_cast<std::uint32_t>(result.mesh.vertex_count());
+    result.mesh.vertices.insert(result.mesh.vertices.end(), view.vertices.begin(), view.vertices.end());
+    for (const std::uint32_t i : view.indices) result.mesh.indices.push_back(base + i);
+    result.hash = mesh_hash(result.mesh);
+}
+
 }  // namespace
 
 MeshResult extract_mesh(const ParticleCloud& cloud, const MeshSettings& req) {
@@ -114,10 +141,15 @@ MeshResult extract_mesh(const ParticleCloud& cloud, const MeshSettings& req) {
         extract_volume(particles, req, result);
         return result;
     }
-    if (req.method != "scan") throw std::invalid_argument(fmt::format("unknown method '{}'", req.method));
+    if (req.method != "scan" && req.method != "hybrid")
+        throw std::invalid_argument(fmt::format("unknown method '{}'", req.method));
     ScanSettings s = req.scan;
     s.radius = result.radius;
     s.fit_v_range(cloud.y);
+    if (req.method == "hybrid") {
+        extract_hybrid(particles, req, result, s);
+        return result;
+    }
     ScanOutput out;
     FrameGraph graph;
     auto positions = [&particles] { return particles.positions(); };

@@ -41,28 +41,34 @@ ScanJobIds add_scan_jobs(FrameGraph& g, ScanConverter& scan, std::function<Const
     return id;
 }
 
-FrameGraph::JobId add_oriented_scan_jobs(FrameGraph& g, OrientedScan& scan,
-                                         std::function<ConstPositions()> positions,
-                                         std::function<ScanOutput&()> output,
-                                         std::initializer_list<FrameGraph::JobId> after) {
+OrientedScanJobIds add_oriented_scan_jobs(FrameGraph& g, OrientedScan& scan,
+                                          std::function<ConstPositions()> positions,
+                                          std::function<ScanOutput&()> output,
+                                          std::initializer_list<FrameGraph::JobId> after,
+                                          std::function<void()> split) {
     auto& s = scan;
     auto pos = std::move(positions);
     auto out = std::move(output);
+    OrientedScanJobIds id{};
     const auto link = g.serial(
         "oriented.link", [&s, pos] { s.link(pos()); }, after);
     const auto skeleton = g.parallel(
         "oriented.skeleton", [&s] { return std::size_t(s.components()); },
         [&s, pos](std::size_t c) { s.skeleton(pos(), static_cast<std::uint32_t>(c)); }, {link});
     const auto cylinders = g.serial("oriented.cylinders", [&s] { s.cylinders(); }, {skeleton});
-    const auto rings = g.parallel(
+    id.rings = g.parallel(
         "oriented.rings", [&s] { return std::size_t(s.branches()); },
         [&s, pos, out](std::size_t b) { s.rings(pos(), static_cast<std::uint32_t>(b), out()); }, {cylinders});
+    const bool splits = static_cast<bool>(split);
+    id.split = splits ? g.serial("hybrid.split", std::move(split), {id.rings}) : ~FrameGraph::JobId{0};
+    const FrameGraph::JobId ready = splits ? id.split : id.rings;
     const auto normals = g.parallel(
         "oriented.normals", [&s] { return std::size_t(s.branches()); },
-        [&s, out](std::size_t b) { s.normals(static_cast<std::uint32_t>(b), out()); }, {rings});
+        [&s, out](std::size_t b) { s.normals(static_cast<std::uint32_t>(b), out()); }, {ready});
     const auto isolated =
-        g.serial("oriented.isolated", [&s, pos, out] { s.isolated(pos(), out()); }, {rings});
-    return g.serial("oriented.stage", [&s, out] { s.stage(out()); }, {normals, isolated});
+        g.serial("oriented.isolated", [&s, pos, out] { s.isolated(pos(), out()); }, {ready});
+    id.stage = g.serial("oriented.stage", [&s, out] { s.stage(out()); }, {normals, isolated});
+    return id;
 }
 
 }  // namespace rivulet

@@ -20,10 +20,16 @@ ScanJobIds add_scan_jobs(FrameGraph& graph, ScanConverter& scan, std::function<C
                          std::function<ScanOutput&()> output,
                          std::initializer_list<FrameGraph::JobId> after = {});
 
-// The jobs of OrientedScan; returns its stage job.
-FrameGraph::JobId add_oriented_scan_jobs(FrameGraph& graph, OrientedScan& scan,
-                                         std::function<ConstPositions()> positions,
-                                         std::function<ScanOutput&()> output,
-                                         std::initializer_list<FrameGraph::JobId> after = {});
+struct OrientedScanJobIds {
+    FrameGraph::JobId rings, split, stage;  // split: ~0u without one
+};
+
+// The jobs of OrientedScan. With `split` (the hybrid method), a serial job "hybrid.split" runs it after
+// the rings and before the normals, spheres and stage.
+OrientedScanJobIds add_oriented_scan_jobs(FrameGraph& graph, OrientedScan& scan,
+                                          std::function<ConstPositions()> positions,
+                                          std::function<ScanOutput&()> output,
+                                          std::initializer_list<FrameGraph::JobId> after = {},
+                                          std::function<void()> split = {});
 
 }  // namespace rivulet

@@ -17,7 +17,8 @@ ScanSurface::ScanSurface(const ScanSettings& settings, std::size_t max_particles
 FrameGraph::JobId ScanSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                         std::function<int()> slot, FrameGraph::JobId after) {
     auto output = [this, slot = std::move(slot)]() -> ScanOutput& { return out_[slot()]; };
-    if (path_) return add_oriented_scan_jobs(graph, *path_, std::move(positions), std::move(output), {after});
+    if (path_)
+        return add_oriented_scan_jobs(graph, *path_, std::move(positions), std::move(output), {after}).stage;
     return add_scan_jobs(graph, *vertical_, std::move(positions), std::move(output), {after}).stage;
 }
 

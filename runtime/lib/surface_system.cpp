@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "runtime/lib/hybrid_surface.h"
 #include "runtime/lib/scan_surface.h"
 #include "runtime/lib/scene_simulation.h"
 #include "runtime/lib/screen_surface.h"
@@ -17,8 +18,10 @@ SurfaceMethod parse_surface_method(const std::string& name) {
     if (name == "screen") return SurfaceMethod::kScreen;
     if (name == "volume") return SurfaceMethod::kVolume;
     if (name == "sprites") return SurfaceMethod::kSprites;
+    if (name == "hybrid") return SurfaceMethod::kHybrid;
     throw std::invalid_argument("unknown surface method '" + name +
-                                "': use 'scan', 'slices', 'screen', 'volume' or (diffuse scenes) 'sprites'");
+                                "': use 'scan', 'slices', 'screen', 'volume', 'hybrid' or (diffuse scenes) "
+                                "'sprites'");
 }
 
 const char* surface_method_name(SurfaceMethod m) {
@@ -33,6 +36,8 @@ const char* surface_method_name(SurfaceMethod m) {
             return "volume";
         case SurfaceMethod::kSprites:
             return "sprites";
+        case SurfaceMethod::kHybrid:
+            return "hybrid";
     }
     return "?";
 }
@@ -53,6 +58,15 @@ std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceMethodSettings& 
             s.v_top = scene.v_max;
             s.v_bottom = scene.v_min;
             return std::make_unique<ScanSurface>(s, scene.max_particles);
+        }
+        case SurfaceMethod::kHybrid: {
+            ScanSettings scan = config.scan;
+            scan.radius = scene.particle_radius;
+            scan.v_top = scene.v_max;
+            scan.v_bottom = scene.v_min;
+            SlicesSettings slices = config.slices;
+            slices.radius = scene.particle_radius;
+            return std::make_unique<HybridSurface>(scan, slices, scene.max_particles, threads);
         }
         case SurfaceMethod::kSlices: {
             SlicesSettings s = config.slices;

@@ -25,8 +25,10 @@ class Renderer;
 
 // kSprites draws a diffuse object's particles (Juckel & Beckhaus 2007) and is the only method of
 // diffuse scenes.
-enum class SurfaceMethod { kScan, kSlices, kScreen, kVolume, kSprites };
-// "scan", "slices", "screen", "volume" or "sprites"; throws std::invalid_argument naming them otherwise.
+// kHybrid: streams as oriented cylinders, the rest as marching slices (runtime/lib/hybrid_extractor.h).
+enum class SurfaceMethod { kScan, kSlices, kScreen, kVolume, kSprites, kHybrid };
+// "scan", "slices", "screen", "volume", "sprites" or "hybrid"; throws std::invalid_argument naming them
+// otherwise.
 SurfaceMethod parse_surface_method(const std::string& name);
 const char* surface_method_name(SurfaceMethod m);
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,10 @@
 #include "jobs/oriented_rings.h"
 
 namespace rivulet {
+namespace {
+constexpr std::uint32_t kNoBranch = ~0u;
+constexpr std::uint32_t kMaxScan = 1u << 20;  // beads one neighbour query reads at most (cell_hash.h)
+}  // namespace
 
 OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particles)
     : settings_(settings), max_particles_(max_particles) {
@@ -49,7 +54,11 @@ OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particl
     edge_from_.reserve(2 * n), edge_to_.reserve(2 * n);
     branch_ranges_.reserve(n);
     drawn_component_.reserve(settings.max_groups), drawn_branch_.reserve(settings.max_groups);
-    ring_count_.reserve(settings.max_groups);
+    tube_.reserve(settings.max_groups), stream_.reserve(settings.max_groups);
+    bead_drawn_.reserve(n), bead_blob_.reserve(n);
+    draw_first_.reserve(settings.max_groups), draw_last_.reserve(settings.max_groups);
+    ring_x_.reserve(settings.v), ring_y_.reserve(settings.v), ring_z_.reserve(settings.v),
+        ring_r_.reserve(settings.v);
     // A branch's path has its levels + 2 points (levels <= members) and its level table levels + 1.
     const std::size_t path = n + 2 * std::size_t(settings.max_groups);
     path_x_.reserve(path), path_y_.reserve(path), path_z_.reserve(path), arc_.reserve(path);
@@ -174,7 +183,7 @@ void OrientedScan::skeleton(ConstPositions, std::uint32_t c) {
     const std::uint32_t first = component_first_[c], count = component_end_[c] - first;
     const std::span<std::uint32_t> members = members_.span(max_particles_).subspan(first, count);
     for (std::uint32_t k = 0; k < count; ++k) member_pos_[members[k]] = k;
-    const SkeletonParams params{bead_link(), kMinBranchBeads};
+    const SkeletonParams params{bead_link(), kMinBranchBeads, thick_node_beads_};
     branch_counts_[c] =
         stream_skeleton(bead_positions(), hash_, params, members, member_pos_.span(beads_), scratch(c),
                         branch_ranges_.span(max_particles_).subspan(first, count));
@@ -191,6 +200,11 @@ void OrientedScan::cylinders() {
             drawn_component_[drawn_] = c, drawn_branch_[drawn_] = b;
             ++drawn_;
         }
+    std::fill_n(bead_drawn_.data(), beads_, kNoBranch);
+    for (std::uint32_t d = 0; d < drawn_; ++d) {
+        const std::uint32_t first = component_first_[drawn_component_[d]] + drawn_range(d).begin;
+        for (std::uint32_t m = first; m < first + drawn_range(d).count; ++m) bead_drawn_[members_[m]] = d;
+    }
     // Where each member bead's particles go in the drawn branches' particle lists.
     std::uint32_t at = 0;
     for (std::uint32_t c = 0; c < components_; ++c)
@@ -240,16 +254,20 @@ void OrientedScan::rings(ConstPositions p, std::uint32_t d, ScanOutput& out) {
                                     bead_link(),       settings_.radius,
                                     settings_.section, {cos_t_.span(layout_.u), sin_t_.span(layout_.u)}};
     const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
-    ring_count_[d] =
+    stream_[d] = 1;
+    draw_first_[d] = 0;
+    tube_[d] =
         oriented_rings(p, branch_particles_.span(max_particles_).subspan(from, count),
                        branch_levels_.span(max_particles_).subspan(from, count), r.first_level, r.levels,
                        params, scratch, out.vertices.span(out.vertices.capacity()).subspan(d * vpc, vpc));
+    draw_last_[d] = tube_[d].rings - 1;
 }
 
 void OrientedScan::normals(std::uint32_t d, ScanOutput& out) {
     const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
-    const std::uint32_t last = ring_count_[d] - 1;
-    cylinder_normals(layout_, 0, last, 0, last,
+    if (!stream_[d]) return;
+    const std::uint32_t first = draw_first_[d], last = draw_last_[d];
+    cylinder_normals(layout_, first, last, first, last,
                      out.vertices.span(out.vertices.capacity()).subspan(d * vpc, vpc));
 }
 
@@ -263,14 +281,146 @@ void OrientedScan::isolated(ConstPositions p, ScanOutput& out) {
 
 void OrientedScan::stage(ScanOutput& out) {
     std::uint64_t triangles = 0;
+    std::uint32_t draws = 0;
     for (std::uint32_t d = 0; d < drawn_; ++d) {
-        out.draws[d] = {d, 0, ring_count_[d] - 1};
-        triangles += 2ull * layout_.u * (ring_count_[d] - 1) + 2ull * layout_.u;
+        if (!stream_[d]) continue;
+        out.draws[draws++] = {d, draw_first_[d], draw_last_[d]};
+        triangles += 2ull * layout_.u * (draw_last_[d] - draw_first_[d]) + 2ull * layout_.u;
     }
-    out.draw_count = drawn_;
+    out.draw_count = draws;
     out.bin_entries = static_cast<std::uint32_t>(particles_);
     out.pool_exhausted = undrawn_;
     out.triangles = triangles;
+}
+
+void OrientedScan::split_streams(ConstPositions p, float max_radius, float min_aspect, ScanOutput& out,
+                                 std::span<std::uint8_t> to_slices) {
+    std::fill(to_slices.begin(), to_slices.begin() + std::ptrdiff_t(particles_), std::uint8_t{0});
+    const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
+    for (std::uint32_t d = 0; d < drawn_; ++d) {
+        // Each ring's centre (its vertices' mean) and mean radius.
+        const float* v = out.vertices.data() + d * vpc;
+        const std::uint32_t rings = tube_[d].rings;
+        for (std::uint32_t r = 0; r < rings; ++r) {
+            float c[3] = {0, 0, 0};
+            for (std::uint32_t k = 0; k < layout_.u; ++k)
+                for (int a = 0; a < 3; ++a) c[a] += v[6 * std::size_t(layout_.side_vertex(r, k)) + a];
+            for (int a = 0; a < 3; ++a) c[a] /= static_cast<float>(layout_.u);
+            float sum = 0;
+            for (std::uint32_t k = 0; k < layout_.u; ++k) {
+                const float* q = v + 6 * std::size_t(layout_.side_vertex(r, k));
+                sum += std::sqrt((q[0] - c[0]) * (q[0] - c[0]) + (q[1] - c[1]) * (q[1] - c[1]) +
+                                 (q[2] - c[2]) * (q[2] - c[2]));
+            }
+            ring_x_[r] = c[0], ring_y_[r] = c[1], ring_z_[r] = c[2];
+            ring_r_[r] = sum / static_cast<float>(layout_.u);
+        }
+        // The longest run of thin rings is the stream; it is drawn if long enough for its width.
+        std::uint32_t best = 0, best_first = 0;
+        for (std::uint32_t r = 0; r < rings;) {
+            if (ring_r_[r] > max_radius) {
+                ++r;
+                continue;
+            }
+            std::uint32_t e = r;
+            while (e < rings && ring_r_[e] <= max_radius) ++e;
+            if (e - r > best) best = e - r, best_first = r;
+            r = e;
+        }
+        float widest = 0;
+        for (std::uint32_t r = best_first; r < best_first + best; ++r) widest = std::max(widest, ring_r_[r]);
+        const float run_length = rings > 1 ? tube_[d].length * static_cast<float>(best > 0 ? best - 1 : 0) /
+                                                 static_cast<float>(rings - 1)
+                                           : 0.0f;
+        stream_[d] = best >= 2 && run_length >= min_aspect * widest;
+        draw_first_[d] = best_first, draw_last_[d] = best_first + (best > 0 ? best - 1 : 0);
+        // Particles nearest a ring outside the run (or of a blob) go to marching slices.
+        for (const std::uint32_t i : branch_particles(d)) {
+            if (!stream_[d]) {
+                to_slices[i] = 1;
+                continue;
+            }
+            std::uint32_t nearest = 0;
+            float nearest_d2 = std::numeric_limits<float>::infinity();
+            for (std::uint32_t r = 0; r < rings; ++r) {
+                const float ex = p.x[i] - ring_x_[r], ey = p.y[i] - ring_y_[r], ez = p.z[i] - ring_z_[r];
+                const float d2 = ex * ex + ey * ey + ez * ez;
+                if (d2 < nearest_d2) nearest_d2 = d2, nearest = r;
+            }
+            if (nearest < draw_first_[d] || nearest > draw_last_[d]) to_slices[i] = 1;
+        }
+    }
+    // The seam: a stream's beads within one bead link of a bead with particles in slices go there too.
+    const ConstPositions beads = bead_positions();
+    for (std::uint32_t b = 0; b < beads_; ++b) {
+        bead_blob_[b] = 0;
+        for (std::uint32_t k = bead_first_[b]; k < bead_first_[b + 1]; ++k)
+            bead_blob_[b] |= to_slices[by_cell_[k]];
+    }
+    const float link2 = bead_link() * bead_link();
+    for (std::uint32_t b = 0; b < beads_; ++b) {
+        if (bead_blob_[b] || bead_drawn_[b] == kNoBranch || !stream_[bead_drawn_[b]]) continue;
+        bool near = false;
+        for_each_within(
+            hash_, beads.x[b], beads.y[b], beads.z[b], link2, kMaxScan,
+            [&](std::uint32_t j, float, float, float, float) { near = near || bead_blob_[j] == 1; });
+        if (near)
+            for (std::uint32_t k = bead_first_[b]; k < bead_first_[b + 1]; ++k) to_slices[by_cell_[k]] = 1;
+    }
+    // A stream wholly within a blob's reach (a short tail, a droplet touching it) is the blob's.
+    for (std::uint32_t d = 0; d < drawn_; ++d) {
+        if (!stream_[d]) continue;
+        bool inside = true;
+        for (const std::uint32_t i : branch_particles(d)) inside = inside && to_slices[i] == 1;
+        if (inside) stream_[d] = 0;
+        if (stream_[d]) taper_seams(p, d, to_slices, out);
+    }
+}
+
+// A drawn end of a stream whose nearest particles went to marching slices ends inside the blob's
+// surface: its end ring and the one before it shrink towards their centres and the end's pole goes to
+// the ring's centre, so the tube, not as wide as the blob's surface around the same particles there,
+// stays beneath it.
+void OrientedScan::taper_seams(ConstPositions p, std::uint32_t d, std::span<const std::uint8_t> to_slices,
+                               ScanOutput& out) {
+    const std::size_t vpc = std::size_t(layout_.verts_per_cylinder()) * 6;
+    float* v = out.vertices.data() + d * vpc;
+    const std::uint32_t ends[2] = {draw_first_[d], draw_last_[d]};
+    for (int e = 0; e < 2; ++e) {
+        const std::uint32_t ring = ends[e];
+        const Vec3f c = ring_centre(v, ring);
+        // The end is a seam when the particle nearest its ring's centre is meshed by slices.
+        float best = std::numeric_limits<float>::infinity();
+        bool seam = false;
+        for (const std::uint32_t i : branch_particles(d)) {
+            const Vec3f q{p.x[i] - c.x, p.y[i] - c.y, p.z[i] - c.z};
+            if (dot(q, q) < best) best = dot(q, q), seam = to_slices[i] == 1;
+        }
+        if (!seam) continue;
+        const std::uint32_t inner = e == 0 ? ring + 1 : ring - 1;
+        scale_ring(v, ring, kSeamEndScale);
+        if (draw_last_[d] > draw_first_[d]) scale_ring(v, inner, kSeamInnerScale);
+        float* pole = v + 6 * std::size_t(e == 0 ? layout_.top_pole(ring) : layout_.bottom_pole(ring));
+        pole[0] = c.x, pole[1] = c.y, pole[2] = c.z;
+    }
+}
+
+void OrientedScan::scale_ring(float* v, std::uint32_t ring, float scale) const {
+    const Vec3f c = ring_centre(v, ring);
+    for (std::uint32_t k = 0; k < layout_.u; ++k) {
+        float* q = v + 6 * std::size_t(layout_.side_vertex(ring, k));
+        q[0] = c.x + scale * (q[0] - c.x), q[1] = c.y + scale * (q[1] - c.y),
+        q[2] = c.z + scale * (q[2] - c.z);
+    }
+}
+
+Vec3f OrientedScan::ring_centre(const float* v, std::uint32_t ring) const {
+    Vec3f c{};
+    for (std::uint32_t k = 0; k < layout_.u; ++k) {
+        const float* q = v + 6 * std::size_t(layout_.side_vertex(ring, k));
+        c = c + Vec3f{q[0], q[1], q[2]};
+    }
+    return c * (1.0f / static_cast<float>(layout_.u));
 }
 
 void OrientedScan::extract_serial(ConstPositions p, ScanOutput& out) {

@@ -16,8 +16,10 @@
 
 #include "jobs/cell_hash.h"
 #include "jobs/cylinder_layout.h"
+#include "jobs/oriented_rings.h"
 #include "jobs/particle_spans.h"
 #include "jobs/stream_skeleton.h"
+#include "jobs/vec3.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/scan/scan_output.h"
 #include "systems/scan/scan_settings.h"
@@ -46,9 +48,22 @@ class OrientedScan {
 
     void extract_serial(ConstPositions p, ScanOutput& out);
 
-    // A drawn branch's particles (for tests and the hybrid method's ownership rule).
+    // The hybrid method's split (runtime/lib/hybrid_extractor.h), after rings, given the frame's output:
+    // in each branch the longest run of rings whose mean radius is at most `max_radius` stays a cylinder
+    // (drawn over that run only) when the run is at least `min_aspect` times as long as its widest ring;
+    // to_slices[i] = 1 (one flag per particle) for the particles of the other branches and those nearest
+    // a ring outside the run, and for a stream's particles within one bead link of those (so the blob's
+    // surface swallows the end of the stream's tube). normals and stage then draw the runs only.
+    void split_streams(ConstPositions p, float max_radius, float min_aspect, ScanOutput& out,
+                       std::span<std::uint8_t> to_slices);
+    // Level nodes of more beads than this start a branch of their own (SkeletonParams::thick_node), so a
+    // stream and the blob it runs into are two branches; 0 (the default) follows streams into blobs.
+    void set_thick_node_beads(std::uint32_t beads) { thick_node_beads_ = beads; }
+    bool is_stream(std::uint32_t branch) const { return stream_[branch] != 0; }
+
+    // A drawn branch's particles (for tests and the hybrid method's ownership rule), once rings ran.
     std::span<const std::uint32_t> branch_particles(std::uint32_t branch) const;
-    std::uint32_t branch_rings(std::uint32_t branch) const { return ring_count_[branch]; }
+    const OrientedTube& tube(std::uint32_t branch) const { return tube_[branch]; }
 
   private:
     // A fork's child branch needs this many beads (with its subtree) to stand apart.
@@ -61,6 +76,7 @@ class OrientedScan {
     float bead_link() const;
     ScanSettings settings_;
     CylinderLayout layout_;
+    std::uint32_t thick_node_beads_ = 0;
     std::size_t max_particles_;
     std::size_t particles_ = 0;
     AlignedArray<float> cos_t_, sin_t_;
@@ -89,7 +105,16 @@ class OrientedScan {
 
     // Drawn branches (pool cylinders), in component order.
     std::uint32_t drawn_ = 0, undrawn_ = 0;
-    AlignedArray<std::uint32_t> drawn_component_, drawn_branch_, ring_count_;
+    AlignedArray<std::uint32_t> drawn_component_, drawn_branch_, bead_drawn_;
+    AlignedArray<OrientedTube> tube_;
+    AlignedArray<std::uint8_t> stream_, bead_blob_;
+    AlignedArray<std::uint32_t> draw_first_, draw_last_;     // the rings drawn of each branch
+    AlignedArray<float> ring_x_, ring_y_, ring_z_, ring_r_;  // split_streams' scratch, one per ring
+    static constexpr float kSeamEndScale = 0.5f, kSeamInnerScale = 0.8f;
+    void taper_seams(ConstPositions p, std::uint32_t branch, std::span<const std::uint8_t> to_slices,
+                     ScanOutput& out);
+    Vec3f ring_centre(const float* vertices, std::uint32_t ring) const;
+    void scale_ring(float* vertices, std::uint32_t ring, float scale) const;
     AlignedArray<float> path_x_, path_y_, path_z_, arc_, circle_x_, circle_z_, circle_rho_;
     AlignedArray<std::uint32_t> level_start_;
     AlignedArray<std::uint8_t> grouped_;
