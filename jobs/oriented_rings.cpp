@@ -48,8 +48,9 @@ Vec any_normal(const Vec& t) {
     return (a - a.dot(t) * t).normalized();
 }
 
-// The level centroids as the path (a single level: its principal axis, Eigen's eigen-solver on the
-// covariance), smoothed, then extended to the end particles' centres along the end directions.
+// The level centroids as the path (`p`: the members' positions, in their order) (a single level: its
+// principal axis, Eigen's eigen-solver on the covariance), smoothed, then extended to the end particles'
+// centres along the end directions.
 Path build_path(ConstPositions p, std::span<const std::uint32_t> members,
                 std::span<const std::uint32_t> level, std::uint32_t first_level, std::uint32_t levels,
                 const RingScratch& s) {
@@ -59,25 +60,24 @@ Path build_path(ConstPositions p, std::span<const std::uint32_t> members,
         s.level_start[l] = m;
         Vec sum = Vec::Zero();
         std::uint32_t count = 0;
-        for (; m < members.size() && level[m] == first_level + l; ++m, ++count)
-            sum += position(p, members[m]);
+        for (; m < members.size() && level[m] == first_level + l; ++m, ++count) sum += position(p, m);
         if (count > 0) path.set(1 + filled++, sum / static_cast<float>(count));
     }
     s.level_start[levels] = m;
     if (filled < 2) {
         Vec mean = Vec::Zero();
-        for (const std::uint32_t i : members) mean += position(p, i);
+        for (std::uint32_t k = 0; k < members.size(); ++k) mean += position(p, k);
         mean /= static_cast<float>(members.size());
         Eigen::Matrix3f cov = Eigen::Matrix3f::Zero();
-        for (const std::uint32_t i : members) {
-            const Vec d = position(p, i) - mean;
+        for (std::uint32_t k = 0; k < members.size(); ++k) {
+            const Vec d = position(p, k) - mean;
             cov += d * d.transpose();
         }
         Vec axis = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f>(cov).eigenvectors().col(2);
         if (!(axis.squaredNorm() > 0.5f)) axis = -Vec::UnitY();
         float lo = 0, hi = 0;
-        for (const std::uint32_t i : members) {
-            const float t = (position(p, i) - mean).dot(axis);
+        for (std::uint32_t k = 0; k < members.size(); ++k) {
+            const float t = (position(p, k) - mean).dot(axis);
             lo = std::min(lo, t), hi = std::max(hi, t);
         }
         if (hi - lo < 1e-6f) lo -= 1e-6f, hi += 1e-6f;  // one particle: a sphere around it
@@ -100,9 +100,9 @@ Path build_path(ConstPositions p, std::span<const std::uint32_t> members,
     const Vec t1 = (path.at(filled) - path.at(filled - 1)).normalized();
     float back = 0, ahead = 0;
     for (std::uint32_t k = 0; k < s.level_start[1]; ++k)
-        back = std::max(back, -(position(p, members[k]) - path.at(1)).dot(t0));
+        back = std::max(back, -(position(p, k) - path.at(1)).dot(t0));
     for (std::uint32_t k = s.level_start[levels - 1]; k < members.size(); ++k)
-        ahead = std::max(ahead, (position(p, members[k]) - path.at(filled)).dot(t1));
+        ahead = std::max(ahead, (position(p, k) - path.at(filled)).dot(t1));
     path.set(0, path.at(1) - back * t0);
     path.set(filled + 1, path.at(filled) + ahead * t1);
     path.points = filled + 2;
@@ -135,7 +135,12 @@ OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> mem
     const CylinderLayout& layout = params.layout;
     const std::uint32_t u = layout.u;
     const float radius = params.radius, r2 = radius * radius;
-    const Path path = build_path(p, members, level, first_level, levels, s);
+    // The branch's positions in its own order: the ring loops below read them in sequence.
+    for (std::size_t k = 0; k < members.size(); ++k)
+        s.member_x[k] = p.x[members[k]], s.member_y[k] = p.y[members[k]], s.member_z[k] = p.z[members[k]];
+    const ConstPositions local{s.member_x.first(members.size()), s.member_y.first(members.size()),
+                               s.member_z.first(members.size())};
+    const Path path = build_path(local, members, level, first_level, levels, s);
     const float length = path.length();
     const float spacing = std::max(params.ring_spacing, 1e-9f);
     const auto rings = static_cast<std::uint32_t>(
@@ -167,7 +172,7 @@ OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> mem
         std::uint32_t circles = 0;
         float reach_back = 0, reach_ahead = 0;
         for (std::uint32_t k = s.level_start[lo]; k < s.level_start[hi]; ++k) {
-            const Vec d = position(p, members[k]) - centre;
+            const Vec d = position(local, k) - centre;
             const float h = d.dot(tangent);
             if (!(h * h < r2)) continue;
             s.circle_x[circles] = d.dot(normal), s.circle_z[circles] = d.dot(binormal);

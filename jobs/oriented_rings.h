@@ -25,10 +25,11 @@ struct OrientedRingParams {
     AngleTable angles;  // layout.u entries
 };
 
-// Scratch of one branch: `path_*` and `arc` as long as its level count + 2, the circles as long as its
-// members.
+// Scratch of one branch: `path_*` and `arc` as long as its level count + 2, the members' positions and
+// the circles as long as its members.
 struct RingScratch {
-    std::span<float> path_x, path_y, path_z, arc, circle_x, circle_z, circle_rho;
+    std::span<float> path_x, path_y, path_z, arc, member_x, member_y, member_z, circle_x, circle_z,
+        circle_rho;
     std::span<std::uint32_t> level_start;  // level count + 1
 };
 

@@ -76,19 +76,15 @@ struct DistanceHeap {
 };
 
 struct Component {
-    ConstPositions p;
-    const CellHash& hash;
-    float link2;
+    const LinkGraph& graph;
     std::span<const std::uint32_t> members, member_pos;
 
     // visit(member, distance) for the members linked to member m.
     template <class Visit>
     void links(std::uint32_t m, Visit&& visit) const {
         const std::uint32_t i = members[m];
-        for_each_within(hash, p.x[i], p.y[i], p.z[i], link2, kMaxScan,
-                        [&](std::uint32_t j, float, float, float, float r2) {
-                            if (j != i) visit(member_pos[j], std::sqrt(r2));
-                        });
+        for (std::uint32_t e = graph.first[i]; e < graph.first[i + 1]; ++e)
+            visit(member_pos[graph.to[e]], graph.length[e]);
     }
 };
 
@@ -215,23 +211,38 @@ std::uint32_t assign_branches(std::uint32_t nodes, const SkeletonParams& params,
 
 }  // namespace
 
-void link_components(ConstPositions p, const CellHash& hash, float link, std::span<std::uint32_t> parent) {
+std::size_t gather_links(ConstPositions p, const CellHash& hash, float link, std::span<std::uint32_t> first,
+                         std::span<std::uint32_t> to, std::span<float> length) {
     const auto n = static_cast<std::uint32_t>(p.size());
+    std::size_t e = 0;
+    first[0] = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        for_each_within(hash, p.x[i], p.y[i], p.z[i], link * link, kMaxScan,
+                        [&](std::uint32_t j, float, float, float, float r2) {
+                            if (j == i) return;
+                            if (e < to.size()) to[e] = j, length[e] = std::sqrt(r2);
+                            ++e;
+                        });
+        first[i + 1] = static_cast<std::uint32_t>(std::min<std::size_t>(e, to.size()));
+    }
+    return e;
+}
+
+void link_components(const LinkGraph& links, std::span<std::uint32_t> parent) {
+    const auto n = static_cast<std::uint32_t>(links.first.size() - 1);
     for (std::uint32_t i = 0; i < n; ++i) parent[i] = i;
     for (std::uint32_t i = 0; i < n; ++i)
-        for_each_within(hash, p.x[i], p.y[i], p.z[i], link * link, kMaxScan,
-                        [&](std::uint32_t j, float, float, float, float) {
-                            if (j > i) unite(parent, i, j);
-                        });
+        for (std::uint32_t e = links.first[i]; e < links.first[i + 1]; ++e)
+            if (links.to[e] > i) unite(parent, i, links.to[e]);
     for (std::uint32_t i = 0; i < n; ++i) parent[i] = find_root(parent, i);
 }
 
-std::uint32_t stream_skeleton(ConstPositions p, const CellHash& hash, const SkeletonParams& params,
+std::uint32_t stream_skeleton(const LinkGraph& graph, const SkeletonParams& params,
                               std::span<std::uint32_t> members, std::span<std::uint32_t> member_pos,
                               const SkeletonScratch& s, std::span<BranchRange> branches) {
     const auto n = static_cast<std::uint32_t>(members.size());
     if (n == 0) return 0;
-    const Component c{p, hash, params.link * params.link, members, member_pos};
+    const Component c{graph, members, member_pos};
     const std::uint32_t end = geodesic(c, 0, s);
     geodesic(c, end, s);
     float top = 0;

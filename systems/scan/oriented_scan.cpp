@@ -41,7 +41,9 @@ OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particl
     const std::size_t n = max_particles;
     heads_.reserve(cell_hash_table_size(n) + 1), order_.reserve(n);
     sorted_x_.reserve(n), sorted_y_.reserve(n), sorted_z_.reserve(n);
-    cell_key_.reserve(n), by_cell_.reserve(n), bead_first_.reserve(n + 1);
+    particle_heads_.reserve(cell_hash_table_size(n) + 1);
+    cell_key_.reserve(n), by_cell_.reserve(n), bead_first_.reserve(n + 1), link_first_.reserve(n + 1);
+    link_to_.reserve(8 * n), link_length_.reserve(8 * n);
     bead_x_.reserve(n), bead_y_.reserve(n), bead_z_.reserve(n);
     particle_at_.reserve(n + 1), branch_particles_.reserve(n), branch_levels_.reserve(n);
     for (auto* a :
@@ -64,6 +66,7 @@ OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particl
     path_x_.reserve(path), path_y_.reserve(path), path_z_.reserve(path), arc_.reserve(path);
     level_start_.reserve(n + settings.max_groups);
     circle_x_.reserve(n), circle_z_.reserve(n), circle_rho_.reserve(n);
+    member_x_.reserve(n), member_y_.reserve(n), member_z_.reserve(n);
     grouped_.reserve(n);
 }
 
@@ -75,6 +78,11 @@ void OrientedScan::prepare_output(ScanOutput& out) const {
 
 float OrientedScan::bead_link() const {
     return kBeadLink * settings_.grouping_distance();
+}
+
+LinkGraph OrientedScan::link_graph() const {
+    const std::size_t links = link_first_[beads_];
+    return {link_first_.span(beads_ + 1), link_to_.span(links), link_length_.span(links)};
 }
 
 ConstPositions OrientedScan::bead_positions() const {
@@ -108,11 +116,19 @@ void OrientedScan::link(ConstPositions p) {
         const auto iy = static_cast<std::uint64_t>((p.y[i] - lo[1]) * inv);
         const auto iz = static_cast<std::uint64_t>((p.z[i] - lo[2]) * inv);
         cell_key_[i] = (iz << 42) | (iy << 21) | ix;
-        by_cell_[i] = i;
     }
-    std::sort(by_cell_.data(), by_cell_.data() + n, [this](std::uint32_t a, std::uint32_t b) {
+    // A counting sort by hashed cell, then each bucket's few cells apart (a bucket holds one cell but
+    // for hash collisions).
+    const CellHash by_bucket =
+        build_cell_hash(p, lo, cell, particle_heads_.span(particle_heads_.capacity()), by_cell_.span(n));
+    const auto by_key = [this](std::uint32_t a, std::uint32_t b) {
         return cell_key_[a] < cell_key_[b] || (cell_key_[a] == cell_key_[b] && a < b);
-    });
+    };
+    for (std::size_t b = 0; b + 1 < by_bucket.heads.size(); ++b) {
+        std::uint32_t* first = by_cell_.data() + by_bucket.heads[b];
+        std::uint32_t* last = by_cell_.data() + by_bucket.heads[b + 1];
+        if (last - first > 1 && !std::is_sorted(first, last, by_key)) std::sort(first, last, by_key);
+    }
     for (std::uint32_t k = 0; k < n; ++k) {
         const std::uint32_t i = by_cell_[k];
         if (k == 0 || cell_key_[i] != cell_key_[by_cell_[k - 1]]) {
@@ -135,7 +151,16 @@ void OrientedScan::link(ConstPositions p) {
     hash_ = build_cell_hash(b, lo, link, heads_.span(heads_.capacity()), order_.span(beads_));
     sort_cell_hash_positions(hash_, b, sorted_x_.span(beads_), sorted_y_.span(beads_),
                              sorted_z_.span(beads_));
-    link_components(b, hash_, link, root_.span(beads_));
+    // The beads' links; the rows grow rarely (a frame far denser than any before) and are gathered again.
+    const auto gather = [&] {
+        return gather_links(b, hash_, link, link_first_.span(beads_ + 1), link_to_.span(link_to_.capacity()),
+                            link_length_.span(link_length_.capacity()));
+    };
+    if (const std::size_t links = gather(); links > link_to_.capacity()) {
+        link_to_.reserve(links + links / 2), link_length_.reserve(links + links / 2);
+        gather();
+    }
+    link_components(link_graph(), root_.span(beads_));
 
     // Beads grouped by component (in order of their lowest bead), ascending within. A component of one
     // bead of one particle is an isolated sphere.
@@ -184,9 +209,8 @@ void OrientedScan::skeleton(ConstPositions, std::uint32_t c) {
     const std::span<std::uint32_t> members = members_.span(max_particles_).subspan(first, count);
     for (std::uint32_t k = 0; k < count; ++k) member_pos_[members[k]] = k;
     const SkeletonParams params{bead_link(), kMinBranchBeads, thick_node_beads_};
-    branch_counts_[c] =
-        stream_skeleton(bead_positions(), hash_, params, members, member_pos_.span(beads_), scratch(c),
-                        branch_ranges_.span(max_particles_).subspan(first, count));
+    branch_counts_[c] = stream_skeleton(link_graph(), params, members, member_pos_.span(beads_), scratch(c),
+                                        branch_ranges_.span(max_particles_).subspan(first, count));
 }
 
 void OrientedScan::cylinders() {
@@ -246,6 +270,9 @@ void OrientedScan::rings(ConstPositions p, std::uint32_t d, ScanOutput& out) {
                               path_y_.span(path_y_.capacity()).subspan(path_at, r.levels + 2),
                               path_z_.span(path_z_.capacity()).subspan(path_at, r.levels + 2),
                               arc_.span(arc_.capacity()).subspan(path_at, r.levels + 2),
+                              member_x_.span(max_particles_).subspan(from, count),
+                              member_y_.span(max_particles_).subspan(from, count),
+                              member_z_.span(max_particles_).subspan(from, count),
                               circle_x_.span(max_particles_).subspan(from, count),
                               circle_z_.span(max_particles_).subspan(from, count),
                               circle_rho_.span(max_particles_).subspan(from, count),

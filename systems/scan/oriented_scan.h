@@ -85,10 +85,14 @@ class OrientedScan {
     AlignedArray<std::uint32_t> heads_, order_;
     AlignedArray<float> sorted_x_, sorted_y_, sorted_z_;
     AlignedArray<std::uint64_t> cell_key_;
-    AlignedArray<std::uint32_t> by_cell_, bead_first_;  // particles by cell; bead b's: [first[b], first[b+1])
+    AlignedArray<std::uint32_t> particle_heads_, by_cell_,
+        bead_first_;  // particles by cell; bead b's: [first[b], first[b+1])
     AlignedArray<float> bead_x_, bead_y_, bead_z_;
     std::uint32_t beads_ = 0;
     ConstPositions bead_positions() const;
+    AlignedArray<std::uint32_t> link_first_, link_to_;  // the beads' links (LinkGraph)
+    AlignedArray<float> link_length_;
+    LinkGraph link_graph() const;
     // Beads grouped by component; a drawn branch's particles, by level, at particle_at_[its first bead].
     AlignedArray<std::uint32_t> root_, members_, member_pos_, component_first_, component_end_, particle_at_;
     AlignedArray<std::uint32_t> branch_particles_, branch_levels_;
@@ -115,7 +119,8 @@ class OrientedScan {
                      ScanOutput& out);
     Vec3f ring_centre(const float* vertices, std::uint32_t ring) const;
     void scale_ring(float* vertices, std::uint32_t ring, float scale) const;
-    AlignedArray<float> path_x_, path_y_, path_z_, arc_, circle_x_, circle_z_, circle_rho_;
+    AlignedArray<float> path_x_, path_y_, path_z_, arc_, member_x_, member_y_, member_z_, circle_x_,
+        circle_z_, circle_rho_;
     AlignedArray<std::uint32_t> level_start_;
     AlignedArray<std::uint8_t> grouped_;
 };
