@@ -40,6 +40,7 @@ std::map<std::string, bool> pipeline_jobs() {
     add(make_builtin_scene("faucet"), SurfaceMethod::kHybrid);
     SceneDesc dam = make_builtin_scene("dambreak");
     add(dam, SurfaceMethod::kScan);
+    add(dam, SurfaceMethod::kHybrid);  // the largest graph: SPH, the oriented jobs and slices'
     dam.sph.solver = SphSolver::kWcsph;
     add(dam, SurfaceMethod::kScan);
     add(make_builtin_scene("ghost"), SurfaceMethod::kSprites);

@@ -42,7 +42,7 @@ struct PipelineSettings {
     std::function<FrameInputs(std::uint64_t sim_frame)> inputs;
 };
 
-inline constexpr std::size_t kMaxFrameJobs = 32;
+inline constexpr std::size_t kMaxFrameJobs = 48;
 
 struct FrameRecord {
     std::uint64_t frame = 0;
