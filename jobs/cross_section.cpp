@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "jobs/cpu_dispatch.h"
 
@@ -30,6 +31,15 @@ RIVULET_AVX2 void circle_maxima_avx2(CirclesView c, AngleTable a, std::span<floa
 }
 
 }  // namespace
+
+void fill_angle_table(std::span<float> cos_t, std::span<float> sin_t) {
+    const std::size_t u = cos_t.size();
+    for (std::size_t k = 0; k < u; ++k) {
+        const double theta = 2.0 * std::numbers::pi * double(k) / double(u);
+        cos_t[k] = static_cast<float>(std::cos(theta));
+        sin_t[k] = static_cast<float>(std::sin(theta));
+    }
+}
 
 void circle_maxima(CirclesView c, AngleTable a, std::span<float> r) {
     if (cpu_has_avx2())

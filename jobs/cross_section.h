@@ -27,6 +27,9 @@ struct AngleTable {
     std::span<const float> cos_t, sin_t;
 };
 
+// Fills cos_t[k], sin_t[k] for k < U = cos_t.size() (sin_t as long), computed in double.
+void fill_angle_table(std::span<float> cos_t, std::span<float> sin_t);
+
 // Equation (1): the farthest intersection of the ray at theta with any circle. Where a ray misses a
 // circle the circle contributes its closest approach to the ray instead, which keeps r(theta) continuous
 // (the paper leaves misses unspecified).

@@ -254,9 +254,8 @@ std::uint32_t stream_skeleton(const LinkGraph& graph, const SkeletonParams& para
             std::isfinite(s.dist[m]) ? static_cast<std::uint32_t>(s.dist[m] / params.link) : last_level;
 
     const std::uint32_t nodes = find_nodes(c, s);
-    std::uint32_t count = 1;
     if (find_node_links(c, nodes, s)) {
-        count = assign_branches(nodes, params, s);
+        assign_branches(nodes, params, s);
     } else {
         std::fill_n(s.node_branch.begin(), nodes, 0u);  // too tangled to follow: one branch
     }
@@ -283,7 +282,6 @@ std::uint32_t stream_skeleton(const LinkGraph& graph, const SkeletonParams& para
         ++b.count;
         b.levels = s.level[k] - b.first_level + 1;
     }
-    (void)count;
     return out;
 }
 

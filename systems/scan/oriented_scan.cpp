@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -15,7 +14,6 @@
 namespace rivulet {
 namespace {
 constexpr std::uint32_t kNoBranch = ~0u;
-constexpr std::uint32_t kMaxScan = 1u << 20;  // beads one neighbour query reads at most (cell_hash.h)
 }  // namespace
 
 OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particles)
@@ -33,11 +31,7 @@ OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particl
             "take {:.1f} GiB (limit 4 GiB): lower them",
             settings.max_groups, settings.u, settings.v, max_particles, bytes / double(1 << 30)));
     cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
-    for (std::uint32_t k = 0; k < settings.u; ++k) {
-        const double theta = 2.0 * std::numbers::pi * k / settings.u;
-        cos_t_[k] = static_cast<float>(std::cos(theta));
-        sin_t_[k] = static_cast<float>(std::sin(theta));
-    }
+    fill_angle_table(cos_t_.span(settings.u), sin_t_.span(settings.u));
     const std::size_t n = max_particles;
     heads_.reserve(cell_hash_table_size(n) + 1), order_.reserve(n);
     sorted_x_.reserve(n), sorted_y_.reserve(n), sorted_z_.reserve(n);
@@ -329,17 +323,13 @@ void OrientedScan::split_streams(ConstPositions p, float max_radius, float min_a
         const float* v = out.vertices.data() + d * vpc;
         const std::uint32_t rings = tube_[d].rings;
         for (std::uint32_t r = 0; r < rings; ++r) {
-            float c[3] = {0, 0, 0};
-            for (std::uint32_t k = 0; k < layout_.u; ++k)
-                for (int a = 0; a < 3; ++a) c[a] += v[6 * std::size_t(layout_.side_vertex(r, k)) + a];
-            for (int a = 0; a < 3; ++a) c[a] /= static_cast<float>(layout_.u);
+            const Vec3f c = ring_centre(v, r);
             float sum = 0;
             for (std::uint32_t k = 0; k < layout_.u; ++k) {
                 const float* q = v + 6 * std::size_t(layout_.side_vertex(r, k));
-                sum += std::sqrt((q[0] - c[0]) * (q[0] - c[0]) + (q[1] - c[1]) * (q[1] - c[1]) +
-                                 (q[2] - c[2]) * (q[2] - c[2]));
+                sum += length(Vec3f{q[0], q[1], q[2]} - c);
             }
-            ring_x_[r] = c[0], ring_y_[r] = c[1], ring_z_[r] = c[2];
+            ring_x_[r] = c.x, ring_y_[r] = c.y, ring_z_[r] = c.z;
             ring_r_[r] = sum / static_cast<float>(layout_.u);
         }
         // The longest run of thin rings is the stream; it is drawn if long enough for its width.
@@ -377,20 +367,18 @@ void OrientedScan::split_streams(ConstPositions p, float max_radius, float min_a
             if (nearest < draw_first_[d] || nearest > draw_last_[d]) to_slices[i] = 1;
         }
     }
-    // The seam: a stream's beads within one bead link of a bead with particles in slices go there too.
-    const ConstPositions beads = bead_positions();
+    // The seam: a stream's beads linked to a bead with particles in slices go there too.
     for (std::uint32_t b = 0; b < beads_; ++b) {
         bead_blob_[b] = 0;
         for (std::uint32_t k = bead_first_[b]; k < bead_first_[b + 1]; ++k)
             bead_blob_[b] |= to_slices[by_cell_[k]];
     }
-    const float link2 = bead_link() * bead_link();
+    const LinkGraph links = link_graph();
     for (std::uint32_t b = 0; b < beads_; ++b) {
         if (bead_blob_[b] || bead_drawn_[b] == kNoBranch || !stream_[bead_drawn_[b]]) continue;
         bool near = false;
-        for_each_within(
-            hash_, beads.x[b], beads.y[b], beads.z[b], link2, kMaxScan,
-            [&](std::uint32_t j, float, float, float, float) { near = near || bead_blob_[j] == 1; });
+        for (std::uint32_t e = links.first[b]; e < links.first[b + 1]; ++e)
+            near = near || bead_blob_[links.to[e]];
         if (near)
             for (std::uint32_t k = bead_first_[b]; k < bead_first_[b + 1]; ++k) to_slices[by_cell_[k]] = 1;
     }

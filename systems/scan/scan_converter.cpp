@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -49,11 +48,7 @@ ScanConverter::ScanConverter(const ScanSettings& settings, std::size_t max_parti
             kMaxScanBufferBytes >> 30));
 
     cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
-    for (std::uint32_t k = 0; k < settings.u; ++k) {
-        const double theta = 2.0 * std::numbers::pi * k / settings.u;
-        cos_t_[k] = static_cast<float>(std::cos(theta));
-        sin_t_[k] = static_cast<float>(std::sin(theta));
-    }
+    fill_angle_table(cos_t_.span(settings.u), sin_t_.span(settings.u));
     chunk_counts_.reserve(std::size_t(max_chunks_) * grid_.bins);
     chunk_cursors_.reserve(std::size_t(max_chunks_) * grid_.bins);
     bin_offsets_.reserve(grid_.bins + 1);
