@@ -68,6 +68,16 @@ inline void sort_cell_hash_positions(CellHash& h, ConstPositions p, std::span<fl
     h.sx = x.first(h.order.size()), h.sy = y.first(h.order.size()), h.sz = z.first(h.order.size());
 }
 
+// True the first time bucket b comes up among a query's 27 cells (records it). A bit per b mod 64 rules
+// out most repeats without a search: collisions are rare, the search over `seen` is the exception.
+inline bool first_visit(std::uint32_t b, std::uint32_t* seen, std::uint32_t& seen_n, std::uint64_t& bits) {
+    const std::uint64_t bit = std::uint64_t{1} << (b & 63u);
+    if ((bits & bit) != 0 && std::find(seen, seen + seen_n, b) != seen + seen_n) return false;
+    bits |= bit;
+    seen[seen_n++] = b;
+    return true;
+}
+
 // Calls visit(j, dx, dy, dz) with d = p[j] - p[i] for the particles in the buckets of the 27 cells around
 // particle i (i included), at most `max_scan` of them (more means a pile far denser than the cell, e.g.
 // coincident particles, which would otherwise make the caller quadratic).
@@ -77,12 +87,12 @@ void for_each_near(ConstPositions p, const CellHash& h, std::size_t i, std::uint
     const float x = p.x[i], y = p.y[i], z = p.z[i];
     const std::int32_t ci = h.cell(x, h.ox), cj = h.cell(y, h.oy), ck = h.cell(z, h.oz);
     std::uint32_t seen[27], seen_n = 0, budget = max_scan;
+    std::uint64_t seen_bits = 0;
     for (std::int32_t dk = -1; dk <= 1; ++dk)
         for (std::int32_t dj = -1; dj <= 1; ++dj)
             for (std::int32_t di = -1; di <= 1; ++di) {
                 const std::uint32_t b = h.key(ci + di, cj + dj, ck + dk);
-                if (std::find(seen, seen + seen_n, b) != seen + seen_n) continue;  // a shared bucket
-                seen[seen_n++] = b;
+                if (!first_visit(b, seen, seen_n, seen_bits)) continue;  // a shared bucket
                 const std::uint32_t end = std::min(h.heads[b + 1], h.heads[b] + budget);
                 budget -= end - h.heads[b];
                 if (!h.sx.empty())
@@ -106,13 +116,13 @@ void for_each_within(const CellHash& h, float x, float y, float z, float r2_max,
     using iv = VectorLanes<4>::i;
     const std::int32_t ci = h.cell(x, h.ox), cj = h.cell(y, h.oy), ck = h.cell(z, h.oz);
     std::uint32_t seen[27], seen_n = 0, budget = max_scan;
+    std::uint64_t seen_bits = 0;
     const fv vx = fv{} + x, vy = fv{} + y, vz = fv{} + z, vr = fv{} + r2_max;
     for (std::int32_t dk = -1; dk <= 1; ++dk)
         for (std::int32_t dj = -1; dj <= 1; ++dj)
             for (std::int32_t di = -1; di <= 1; ++di) {
                 const std::uint32_t b = h.key(ci + di, cj + dj, ck + dk);
-                if (std::find(seen, seen + seen_n, b) != seen + seen_n) continue;
-                seen[seen_n++] = b;
+                if (!first_visit(b, seen, seen_n, seen_bits)) continue;  // a shared bucket
                 const std::uint32_t begin = h.heads[b], end = std::min(h.heads[b + 1], begin + budget);
                 budget -= end - begin;
                 std::uint32_t e = begin;

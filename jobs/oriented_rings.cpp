@@ -29,9 +29,10 @@ struct Path {
         s.arc[0] = 0;
         for (std::uint32_t i = 1; i < points; ++i) s.arc[i] = s.arc[i - 1] + (at(i) - at(i - 1)).norm();
     }
-    // The point at arc length t and its fractional point index.
-    Vec point(float t, float& index) const {
-        std::uint32_t i = 0;
+    // The point at arc length t and its fractional point index; `from` is a segment at or before t's
+    // (the rings ask in order of t, so each keeps a cursor and the walk along the path stays linear).
+    Vec point(float t, float& index, std::uint32_t& from) const {
+        std::uint32_t& i = from;
         while (i + 2 < points && s.arc[i + 1] <= t) ++i;
         const float seg = s.arc[i + 1] - s.arc[i];
         const float f = seg > 0 ? std::clamp((t - s.arc[i]) / seg, 0.0f, 1.0f) : 0.0f;
@@ -148,44 +149,81 @@ OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> mem
     const float half_window = 0.5f * params.level_width;
     const RingSlots slots{layout, vertices};
 
-    std::array<float, kMaxRingVertices> r, tmp;
+    // Ring frames, in the cylinder's block until the positions are written.
     Vec normal = Vec::Zero();
-    float reach_first = radius, reach_last = radius;
-    std::uint32_t filled = 0;
+    std::uint32_t at_centre = 0, at_back = 0, at_ahead = 0;
     for (std::uint32_t ring = 0; ring < rings; ++ring) {
         const float t = length * static_cast<float>(ring) / static_cast<float>(rings - 1);
         float index = 0, ignored = 0;
-        const Vec centre = path.point(t, index);
-        Vec tangent = path.point(std::min(t + half_window, length), ignored) -
-                      path.point(std::max(t - half_window, 0.0f), ignored);
+        const Vec centre = path.point(t, index, at_centre);
+        const Vec back = path.point(std::max(t - half_window, 0.0f), ignored, at_back);
+        Vec tangent = path.point(std::min(t + half_window, length), ignored, at_ahead) - back;
         tangent = tangent.squaredNorm() > 0 ? tangent.normalized() : Vec(-Vec::UnitY());
         normal = ring == 0 ? any_normal(tangent) : normal - normal.dot(tangent) * tangent;
         if (!(normal.squaredNorm() > 1e-12f)) normal = any_normal(tangent);
         normal.normalize();
         const Vec binormal = tangent.cross(normal);  // normal x binormal = tangent: the pool's winding
+        RingSlots::put(slots.top(ring), centre);
+        RingSlots::put(slots.top(ring) + 3, normal);
+        RingSlots::put(slots.bottom(ring) + 3, binormal);
+        RingSlots::put(slots.bottom(ring), tangent);
+    }
 
-        // The levels around the ring's place on the path; their spheres that cut its plane.
-        const float level_f = std::clamp(index - static_cast<float>(path.first_level_point), 0.0f,
-                                         static_cast<float>(levels - 1));
-        const auto lo = static_cast<std::uint32_t>(std::max(0.0f, std::floor(level_f) - 1.0f));
-        const auto hi = std::min(levels, static_cast<std::uint32_t>(std::ceil(level_f)) + 2);
-        std::uint32_t circles = 0;
-        float reach_back = 0, reach_ahead = 0;
-        for (std::uint32_t k = s.level_start[lo]; k < s.level_start[hi]; ++k) {
-            const Vec d = position(local, k) - centre;
-            const float h = d.dot(tangent);
-            if (!(h * h < r2)) continue;
-            s.circle_x[circles] = d.dot(normal), s.circle_z[circles] = d.dot(binormal);
-            s.circle_rho[circles] = std::sqrt(r2 - h * h);
-            reach_back = std::max(reach_back, radius - h), reach_ahead = std::max(reach_ahead, radius + h);
-            ++circles;
+    // Which ring planes each sphere cuts (|h| < r, h its centre's height over the plane): a run of
+    // rings around its place on the path, found by walking from the previous particle's (members come
+    // by level, so along the path). Each ring then gets its circles in member order.
+    const auto height = [&](const Vec& x, std::uint32_t ring) {
+        return (x - RingSlots::get(slots.top(ring))).dot(RingSlots::get(slots.bottom(ring)));
+    };
+    const std::span<std::uint32_t> ring_first = s.ring_first.first(rings + 1);
+    std::fill(ring_first.begin(), ring_first.end(), 0u);
+    std::uint32_t walk = 0;
+    for (std::uint32_t k = 0; k < members.size(); ++k) {
+        const Vec x = position(local, k);
+        float h = height(x, walk);
+        while (h >= radius && walk + 1 < rings) h = height(x, ++walk);
+        while (h <= -radius && walk > 0) h = height(x, --walk);
+        std::uint32_t lo = walk, hi = walk;
+        if (std::abs(h) < radius) {
+            hi = walk + 1;
+            for (bool grew = true; grew;) {
+                grew = false;
+                if (hi - lo < kMaxRingsPerSphere && lo > 0 && std::abs(height(x, lo - 1)) < radius)
+                    --lo, grew = true;
+                if (hi - lo < kMaxRingsPerSphere && hi < rings && std::abs(height(x, hi)) < radius)
+                    ++hi, grew = true;
+            }
         }
-        if (ring == 0 && circles > 0) reach_first = reach_back;
-        if (ring == rings - 1 && circles > 0) reach_last = reach_ahead;
+        s.cut_first[k] = lo, s.cut_count[k] = static_cast<std::uint8_t>(hi - lo);
+        for (std::uint32_t ring = lo; ring < hi; ++ring) ++ring_first[ring + 1];
+    }
+    for (std::uint32_t ring = 0; ring < rings; ++ring) ring_first[ring + 1] += ring_first[ring];
+    const std::span<std::uint32_t> cursor = s.ring_cursor.first(rings);
+    std::copy_n(ring_first.begin(), rings, cursor.begin());
+    float reach_first = radius, reach_last = radius;
+    for (std::uint32_t k = 0; k < members.size(); ++k) {
+        const Vec x = position(local, k);
+        for (std::uint32_t ring = s.cut_first[k]; ring < s.cut_first[k] + s.cut_count[k]; ++ring) {
+            const Vec d = x - RingSlots::get(slots.top(ring));
+            const float h = d.dot(RingSlots::get(slots.bottom(ring)));
+            const std::uint32_t c = cursor[ring]++;
+            s.circle_x[c] = d.dot(RingSlots::get(slots.top(ring) + 3));
+            s.circle_z[c] = d.dot(RingSlots::get(slots.bottom(ring) + 3));
+            s.circle_rho[c] = std::sqrt(std::max(r2 - h * h, 0.0f));
+            if (ring == 0) reach_first = c == ring_first[0] ? radius - h : std::max(reach_first, radius - h);
+            if (ring == rings - 1)
+                reach_last = c == ring_first[ring] ? radius + h : std::max(reach_last, radius + h);
+        }
+    }
+
+    std::array<float, kMaxRingVertices> r, tmp;
+    std::uint32_t filled = 0;
+    for (std::uint32_t ring = 0; ring < rings; ++ring) {
+        const std::uint32_t begin = ring_first[ring], circles = ring_first[ring + 1] - begin;
         const std::span<float> rs(r.data(), u), ts(tmp.data(), u);
         if (circles > 0) {
-            const CirclesView view{s.circle_x.first(circles), s.circle_z.first(circles),
-                                   s.circle_rho.first(circles)};
+            const CirclesView view{s.circle_x.subspan(begin, circles), s.circle_z.subspan(begin, circles),
+                                   s.circle_rho.subspan(begin, circles)};
             if (params.section.function == RadialFunction::kCircleMaxima) {
                 circle_maxima(view, params.angles, rs);
                 smooth_cyclic(rs, params.section.smoothing_iterations, ts);
@@ -197,10 +235,6 @@ OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> mem
             std::fill(rs.begin(), rs.end(), -1.0f);  // none: filled in from the neighbours below
         }
         for (std::uint32_t k = 0; k < u; ++k) slots.side(ring, k)[3] = r[k];
-        RingSlots::put(slots.top(ring), centre);
-        RingSlots::put(slots.top(ring) + 3, normal);
-        RingSlots::put(slots.bottom(ring) + 3, binormal);
-        RingSlots::put(slots.bottom(ring), tangent);
     }
 
     // Rings no sphere cut: the radii of the rings that have some, linearly between them.

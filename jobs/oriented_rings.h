@@ -6,7 +6,8 @@
 // bisecting plane of its two pieces), with frames carried along by parallel transport, so the tube
 // does not twist. A ring's radii come from the spheres that cut its plane, by the seed's radial functions
 // (cross_section.h); the end rings' poles close the tube one sphere beyond the end particles. A ring
-// no sphere cuts takes its radii from the nearest rings that have some.
+// no sphere cuts takes its radii from the nearest rings that have some. The spheres find the planes they
+// cut by walking the rings from their neighbour's, so the cost is about one test per cut.
 #include <cstdint>
 #include <span>
 
@@ -25,12 +26,20 @@ struct OrientedRingParams {
     AngleTable angles;  // layout.u entries
 };
 
-// Scratch of one branch: `path_*` and `arc` as long as its level count + 2, the members' positions and
-// the circles as long as its members.
+// Rings one sphere adds its circle to at most: rings are at least 2/3 of a radius apart along a straight
+// path, so a sphere cuts three at most; more happens only where ring planes converge on the inside of a
+// bend tighter than the stream, and there the four nearest are kept.
+inline constexpr std::uint32_t kMaxRingsPerSphere = 4;
+
+// Scratch of one branch: `path_*` and `arc` as long as its level count + 2; the members' positions and
+// cut rings as long as its members; the circles kMaxRingsPerSphere times that; ring_first layout.v + 1
+// and ring_cursor layout.v.
 struct RingScratch {
     std::span<float> path_x, path_y, path_z, arc, member_x, member_y, member_z, circle_x, circle_z,
         circle_rho;
     std::span<std::uint32_t> level_start;  // level count + 1
+    std::span<std::uint32_t> cut_first, ring_first, ring_cursor;
+    std::span<std::uint8_t> cut_count;
 };
 
 // What one branch became: its ring count (at least 2, at most layout.v), its path's length and its

@@ -211,23 +211,6 @@ std::uint32_t assign_branches(std::uint32_t nodes, const SkeletonParams& params,
 
 }  // namespace
 
-std::size_t gather_links(ConstPositions p, const CellHash& hash, float link, std::span<std::uint32_t> first,
-                         std::span<std::uint32_t> to, std::span<float> length) {
-    const auto n = static_cast<std::uint32_t>(p.size());
-    std::size_t e = 0;
-    first[0] = 0;
-    for (std::uint32_t i = 0; i < n; ++i) {
-        for_each_within(hash, p.x[i], p.y[i], p.z[i], link * link, kMaxScan,
-                        [&](std::uint32_t j, float, float, float, float r2) {
-                            if (j == i) return;
-                            if (e < to.size()) to[e] = j, length[e] = std::sqrt(r2);
-                            ++e;
-                        });
-        first[i + 1] = static_cast<std::uint32_t>(std::min<std::size_t>(e, to.size()));
-    }
-    return e;
-}
-
 void link_components(const LinkGraph& links, std::span<std::uint32_t> parent) {
     const auto n = static_cast<std::uint32_t>(links.first.size() - 1);
     for (std::uint32_t i = 0; i < n; ++i) parent[i] = i;

@@ -16,7 +16,7 @@
 #include <cstdint>
 #include <span>
 
-#include "jobs/cell_hash.h"
+#include "jobs/grid_links.h"
 #include "jobs/particle_spans.h"
 
 namespace rivulet {
@@ -46,20 +46,6 @@ struct SkeletonScratch {
 struct BranchRange {
     std::uint32_t begin = 0, count = 0, first_level = 0, levels = 0;
 };
-
-// Links between points closer than a link distance, as compressed rows: point i's are
-// to[first[i] .. first[i + 1]), `length` their distances, in the cell hash's order.
-struct LinkGraph {
-    std::span<const std::uint32_t> first;  // points + 1
-    std::span<const std::uint32_t> to;
-    std::span<const float> length;
-};
-
-// The links of every point of `p` (the cell hash's cells at least `link` wide) into `first` (points + 1),
-// `to` and `length`, as many as fit; returns how many there are. When that is more than `to` holds, the
-// caller grows `to` and `length` and calls again.
-std::size_t gather_links(ConstPositions p, const CellHash& hash, float link, std::span<std::uint32_t> first,
-                         std::span<std::uint32_t> to, std::span<float> length);
 
 // `members`: the component's particles, ascending; `member_pos[i]` is particle i's position in `members`
 // for every member (written by the caller). On return `members` is sorted by (branch, level, index),

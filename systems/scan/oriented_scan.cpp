@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "jobs/cylinder_normals.h"
+#include "jobs/grid_links.h"
 #include "jobs/isolated_particles.h"
 #include "jobs/oriented_rings.h"
 
@@ -33,10 +35,11 @@ OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particl
     cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
     fill_angle_table(cos_t_.span(settings.u), sin_t_.span(settings.u));
     const std::size_t n = max_particles;
-    heads_.reserve(cell_hash_table_size(n) + 1), order_.reserve(n);
+    heads_.reserve(std::bit_ceil(std::max<std::size_t>(n, 64)) + 1), order_.reserve(n), bucket_.reserve(n);
     sorted_x_.reserve(n), sorted_y_.reserve(n), sorted_z_.reserve(n);
-    particle_heads_.reserve(cell_hash_table_size(n) + 1);
-    cell_key_.reserve(n), by_cell_.reserve(n), bead_first_.reserve(n + 1), link_first_.reserve(n + 1);
+    cell_key_.reserve(n), bead_key_.reserve(n), by_cell_.reserve(n), bead_first_.reserve(n + 1),
+        link_first_.reserve(n + 1);
+    pair_a_.reserve(4 * n), pair_b_.reserve(4 * n), pair_length_.reserve(4 * n);
     link_to_.reserve(8 * n), link_length_.reserve(8 * n);
     bead_x_.reserve(n), bead_y_.reserve(n), bead_z_.reserve(n);
     particle_at_.reserve(n + 1), branch_particles_.reserve(n), branch_levels_.reserve(n);
@@ -59,7 +62,11 @@ OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particl
     const std::size_t path = n + 2 * std::size_t(settings.max_groups);
     path_x_.reserve(path), path_y_.reserve(path), path_z_.reserve(path), arc_.reserve(path);
     level_start_.reserve(n + settings.max_groups);
-    circle_x_.reserve(n), circle_z_.reserve(n), circle_rho_.reserve(n);
+    circle_x_.reserve(kMaxRingsPerSphere * n), circle_z_.reserve(kMaxRingsPerSphere * n),
+        circle_rho_.reserve(kMaxRingsPerSphere * n);
+    cut_first_.reserve(n), cut_count_.reserve(n);
+    ring_first_.reserve(std::size_t(settings.max_groups) * (settings.v + 1)),
+        ring_cursor_.reserve(std::size_t(settings.max_groups) * settings.v);
     member_x_.reserve(n), member_y_.reserve(n), member_z_.reserve(n);
     grouped_.reserve(n);
 }
@@ -103,24 +110,28 @@ void OrientedScan::link(ConstPositions p) {
                 "particles span {:.0f} grouping distances along an axis (or are not finite): raise --epsilon",
                 (double(hi[a]) - double(lo[a])) / link));
 
-    // Beads: particles sorted by (cell, index); each cell's particles at their centroid.
+    // Beads: particles sorted by (cell, index) (a counting sort by hashed cell, then the few buckets that
+    // hold more than one cell sorted apart); each cell's particles at their centroid.
     const float inv = 1.0f / cell;
+    const std::uint32_t table = std::bit_ceil(std::max(n, 64u)), mask = table - 1;
+    const std::span<std::uint32_t> heads = heads_.span(table + 1), bucket = bucket_.span(n);
+    std::fill(heads.begin(), heads.end(), 0u);
     for (std::uint32_t i = 0; i < n; ++i) {
-        const auto ix = static_cast<std::uint64_t>((p.x[i] - lo[0]) * inv);
-        const auto iy = static_cast<std::uint64_t>((p.y[i] - lo[1]) * inv);
-        const auto iz = static_cast<std::uint64_t>((p.z[i] - lo[2]) * inv);
-        cell_key_[i] = (iz << 42) | (iy << 21) | ix;
+        const auto ix = static_cast<std::uint32_t>((p.x[i] - lo[0]) * inv) + kLinkReach;
+        const auto iy = static_cast<std::uint32_t>((p.y[i] - lo[1]) * inv) + kLinkReach;
+        const auto iz = static_cast<std::uint32_t>((p.z[i] - lo[2]) * inv) + kLinkReach;
+        cell_key_[i] = pack_cell_key(ix, iy, iz);
+        bucket[i] = (ix * 73856093u ^ iy * 19349663u ^ iz * 83492791u) & mask;
+        ++heads[bucket[i] + 1];
     }
-    // A counting sort by hashed cell, then each bucket's few cells apart (a bucket holds one cell but
-    // for hash collisions).
-    const CellHash by_bucket =
-        build_cell_hash(p, lo, cell, particle_heads_.span(particle_heads_.capacity()), by_cell_.span(n));
+    for (std::uint32_t b = 0; b < table; ++b) heads[b + 1] += heads[b];
+    for (std::uint32_t i = 0; i < n; ++i) by_cell_[heads[bucket[i]]++] = i;  // heads[b]: bucket b's end
     const auto by_key = [this](std::uint32_t a, std::uint32_t b) {
         return cell_key_[a] < cell_key_[b] || (cell_key_[a] == cell_key_[b] && a < b);
     };
-    for (std::size_t b = 0; b + 1 < by_bucket.heads.size(); ++b) {
-        std::uint32_t* first = by_cell_.data() + by_bucket.heads[b];
-        std::uint32_t* last = by_cell_.data() + by_bucket.heads[b + 1];
+    for (std::uint32_t b = 0, begin = 0; b < table; begin = heads[b++]) {
+        std::uint32_t* first = by_cell_.data() + begin;
+        std::uint32_t* last = by_cell_.data() + heads[b];
         if (last - first > 1 && !std::is_sorted(first, last, by_key)) std::sort(first, last, by_key);
     }
     for (std::uint32_t k = 0; k < n; ++k) {
@@ -132,6 +143,7 @@ void OrientedScan::link(ConstPositions p) {
                     bead_z_[beads_ - 1] *= inv_count;
             }
             bead_first_[beads_] = k;
+            bead_key_[beads_] = cell_key_[i];
             bead_x_[beads_] = bead_y_[beads_] = bead_z_[beads_] = 0;
             ++beads_;
         }
@@ -140,20 +152,25 @@ void OrientedScan::link(ConstPositions p) {
     const float inv_last = 1.0f / static_cast<float>(n - bead_first_[beads_ - 1]);
     bead_x_[beads_ - 1] *= inv_last, bead_y_[beads_ - 1] *= inv_last, bead_z_[beads_ - 1] *= inv_last;
     bead_first_[beads_] = n;
+    // Beads in order of their cells' keys, which the hash does not give: sort them (a bead's particles
+    // move with it).
+    sort_beads_by_key();
 
-    const ConstPositions b = bead_positions();
-    hash_ = build_cell_hash(b, lo, link, heads_.span(heads_.capacity()), order_.span(beads_));
-    sort_cell_hash_positions(hash_, b, sorted_x_.span(beads_), sorted_y_.span(beads_),
-                             sorted_z_.span(beads_));
-    // The beads' links; the rows grow rarely (a frame far denser than any before) and are gathered again.
-    const auto gather = [&] {
-        return gather_links(b, hash_, link, link_first_.span(beads_ + 1), link_to_.span(link_to_.capacity()),
-                            link_length_.span(link_length_.capacity()));
+    // The beads' links; the pair buffers grow rarely (a frame far denser than any before).
+    const auto pairs = [&] {
+        return grid_link_pairs(bead_positions(), bead_key_.span(beads_), kLinkReach, link,
+                               pair_a_.span(pair_a_.capacity()), pair_b_.span(pair_b_.capacity()),
+                               pair_length_.span(pair_length_.capacity()));
     };
-    if (const std::size_t links = gather(); links > link_to_.capacity()) {
-        link_to_.reserve(links + links / 2), link_length_.reserve(links + links / 2);
-        gather();
+    std::size_t links = pairs();
+    if (links > pair_a_.capacity()) {
+        for (auto* a : {&pair_a_, &pair_b_}) a->reserve(links + links / 2);
+        pair_length_.reserve(links + links / 2);
+        link_to_.reserve(2 * (links + links / 2)), link_length_.reserve(2 * (links + links / 2));
+        pairs();
     }
+    link_rows(pair_a_.span(links), pair_b_.span(links), pair_length_.span(links),
+              link_first_.span(beads_ + 1), link_to_.span(2 * links), link_length_.span(2 * links));
     link_components(link_graph(), root_.span(beads_));
 
     // Beads grouped by component (in order of their lowest bead), ascending within. A component of one
@@ -174,6 +191,30 @@ void OrientedScan::link(ConstPositions p) {
         next += size;
     }
     for (std::uint32_t i = 0; i < beads_; ++i) members_[cursor[root_[i]]++] = i;
+}
+
+void OrientedScan::sort_beads_by_key() {
+    const std::span<std::uint32_t> order = order_.span(beads_);
+    for (std::uint32_t b = 0; b < beads_; ++b) order[b] = b;
+    if (std::is_sorted(bead_key_.data(), bead_key_.data() + beads_)) return;
+    std::sort(order.begin(), order.end(),
+              [this](std::uint32_t a, std::uint32_t b) { return bead_key_[a] < bead_key_[b]; });
+    const std::span<std::uint32_t> particles = bucket_.span(particles_);
+    std::uint32_t at = 0;
+    for (std::uint32_t k = 0; k < beads_; ++k) {
+        const std::uint32_t b = order[k];
+        sorted_x_[k] = bead_x_[b], sorted_y_[k] = bead_y_[b], sorted_z_[k] = bead_z_[b];
+        cell_key_[k] = bead_key_[b];
+        const std::uint32_t count = bead_first_[b + 1] - bead_first_[b];
+        std::copy_n(by_cell_.data() + bead_first_[b], count, particles.data() + at);
+        order[k] = at;  // the bead's new first particle
+        at += count;
+    }
+    for (std::uint32_t k = 0; k < beads_; ++k) {
+        bead_x_[k] = sorted_x_[k], bead_y_[k] = sorted_y_[k], bead_z_[k] = sorted_z_[k];
+        bead_key_[k] = cell_key_[k], bead_first_[k] = order[k];
+    }
+    std::copy(particles.begin(), particles.end(), by_cell_.data());
 }
 
 SkeletonScratch OrientedScan::scratch(std::uint32_t c) {
@@ -260,17 +301,23 @@ void OrientedScan::rings(ConstPositions p, std::uint32_t d, ScanOutput& out) {
         }
     }
     const std::size_t path_at = first + 2 * std::size_t(d), table_at = first + d;
-    const RingScratch scratch{path_x_.span(path_x_.capacity()).subspan(path_at, r.levels + 2),
-                              path_y_.span(path_y_.capacity()).subspan(path_at, r.levels + 2),
-                              path_z_.span(path_z_.capacity()).subspan(path_at, r.levels + 2),
-                              arc_.span(arc_.capacity()).subspan(path_at, r.levels + 2),
-                              member_x_.span(max_particles_).subspan(from, count),
-                              member_y_.span(max_particles_).subspan(from, count),
-                              member_z_.span(max_particles_).subspan(from, count),
-                              circle_x_.span(max_particles_).subspan(from, count),
-                              circle_z_.span(max_particles_).subspan(from, count),
-                              circle_rho_.span(max_particles_).subspan(from, count),
-                              level_start_.span(level_start_.capacity()).subspan(table_at, r.levels + 1)};
+    const std::size_t cuts_at = kMaxRingsPerSphere * std::size_t(from), cuts = kMaxRingsPerSphere * count;
+    const RingScratch scratch{
+        path_x_.span(path_x_.capacity()).subspan(path_at, r.levels + 2),
+        path_y_.span(path_y_.capacity()).subspan(path_at, r.levels + 2),
+        path_z_.span(path_z_.capacity()).subspan(path_at, r.levels + 2),
+        arc_.span(arc_.capacity()).subspan(path_at, r.levels + 2),
+        member_x_.span(max_particles_).subspan(from, count),
+        member_y_.span(max_particles_).subspan(from, count),
+        member_z_.span(max_particles_).subspan(from, count),
+        circle_x_.span(circle_x_.capacity()).subspan(cuts_at, cuts),
+        circle_z_.span(circle_z_.capacity()).subspan(cuts_at, cuts),
+        circle_rho_.span(circle_rho_.capacity()).subspan(cuts_at, cuts),
+        level_start_.span(level_start_.capacity()).subspan(table_at, r.levels + 1),
+        cut_first_.span(max_particles_).subspan(from, count),
+        ring_first_.span(ring_first_.capacity()).subspan(d * (layout_.v + 1), layout_.v + 1),
+        ring_cursor_.span(ring_cursor_.capacity()).subspan(d * layout_.v, layout_.v),
+        cut_count_.span(max_particles_).subspan(from, count)};
     const OrientedRingParams params{layout_,           settings_.radius,
                                     bead_link(),       settings_.radius,
                                     settings_.section, {cos_t_.span(layout_.u), sin_t_.span(layout_.u)}};

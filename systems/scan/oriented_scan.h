@@ -14,8 +14,8 @@
 //   -> isolated, stage
 #include <cstdint>
 
-#include "jobs/cell_hash.h"
 #include "jobs/cylinder_layout.h"
+#include "jobs/grid_links.h"
 #include "jobs/oriented_rings.h"
 #include "jobs/particle_spans.h"
 #include "jobs/stream_skeleton.h"
@@ -81,12 +81,16 @@ class OrientedScan {
     std::size_t particles_ = 0;
     AlignedArray<float> cos_t_, sin_t_;
 
-    CellHash hash_;
-    AlignedArray<std::uint32_t> heads_, order_;
+    // Cells of two beads linked are at most this many apart (kBeadLink / kBeadCell, rounded up).
+    static constexpr std::uint32_t kLinkReach = 2;
+    static_assert(kLinkReach >= kBeadLink / kBeadCell);
+    AlignedArray<std::uint32_t> heads_, order_, bucket_;
     AlignedArray<float> sorted_x_, sorted_y_, sorted_z_;
-    AlignedArray<std::uint64_t> cell_key_;
-    AlignedArray<std::uint32_t> particle_heads_, by_cell_,
-        bead_first_;  // particles by cell; bead b's: [first[b], first[b+1])
+    AlignedArray<std::uint64_t> cell_key_, bead_key_;
+    AlignedArray<std::uint32_t> by_cell_, bead_first_;  // particles by bead; bead b's: [first[b], first[b+1])
+    void sort_beads_by_key();
+    AlignedArray<std::uint32_t> pair_a_, pair_b_;  // the beads' links, once each (jobs/grid_links.h)
+    AlignedArray<float> pair_length_;
     AlignedArray<float> bead_x_, bead_y_, bead_z_;
     std::uint32_t beads_ = 0;
     ConstPositions bead_positions() const;
@@ -121,7 +125,8 @@ class OrientedScan {
     void scale_ring(float* vertices, std::uint32_t ring, float scale) const;
     AlignedArray<float> path_x_, path_y_, path_z_, arc_, member_x_, member_y_, member_z_, circle_x_,
         circle_z_, circle_rho_;
-    AlignedArray<std::uint32_t> level_start_;
+    AlignedArray<std::uint32_t> level_start_, cut_first_, ring_first_, ring_cursor_;
+    AlignedArray<std::uint8_t> cut_count_;
     AlignedArray<std::uint8_t> grouped_;
 };
 
