@@ -8,8 +8,6 @@ namespace rivulet {
 namespace {
 
 constexpr std::uint32_t kNone = ~0u;
-// Candidates one neighbour query reads at most (cell_hash.h): a pile far denser than a link.
-constexpr std::uint32_t kMaxScan = 4096;
 
 std::uint32_t find_root(std::span<std::uint32_t> parent, std::uint32_t i) {
     while (parent[i] != i) {
@@ -89,7 +87,7 @@ struct Component {
 };
 
 // Geodesic distances over the links from member `source`; returns the farthest member (the lowest of
-// equals). Members out of reach (a pile past kMaxScan) keep infinity.
+// equals). Members out of reach (none, when `members` is a component of the links) keep infinity.
 std::uint32_t geodesic(const Component& c, std::uint32_t source, const SkeletonScratch& s) {
     const auto n = static_cast<std::uint32_t>(c.members.size());
     std::fill_n(s.dist.begin(), n, std::numeric_limits<float>::infinity());
