@@ -1,8 +1,10 @@
 #include "jobs/oriented_rings.h"
 
+#include <immintrin.h>
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 
 #include "jobs/deform_cylinder.h"
@@ -112,9 +114,14 @@ Path build_path(ConstPositions p, std::span<const std::uint32_t> members,
     return path;
 }
 
-// Radii and frame of one ring, kept in the cylinder's block until the positions are written: the
-// side vertices' normal x holds r(theta_k), the top pole holds the centre and, in its normal, the
-// frame's first axis; the bottom pole's normal holds the second.
+// A ring's frame in RingScratch::frames: its plane (the tangent and the offset that make t . x + w the
+// height over it), its centre, and the plane's two axes.
+constexpr std::size_t kPlane = 0, kCentre = 4, kNormal = 8, kBinormal = 12;
+// A padding plane's offset: no sphere is within a radius of it.
+constexpr float kNoPlane = 1e30f;
+
+// Radii of one ring, kept in the cylinder's block until the positions are written: the side vertices'
+// normal x holds r(theta_k).
 struct RingSlots {
     const CylinderLayout& layout;
     std::span<float> v;
@@ -163,40 +170,73 @@ OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> mem
         if (!(normal.squaredNorm() > 1e-12f)) normal = any_normal(tangent);
         normal.normalize();
         const Vec binormal = tangent.cross(normal);  // normal x binormal = tangent: the pool's winding
-        RingSlots::put(slots.top(ring), centre);
-        RingSlots::put(slots.top(ring) + 3, normal);
-        RingSlots::put(slots.bottom(ring) + 3, binormal);
-        RingSlots::put(slots.bottom(ring), tangent);
+        float* f = s.frames.data() + kFrameFloats * std::size_t(ring);
+        RingSlots::put(f + kPlane, tangent), f[kPlane + 3] = -centre.dot(tangent);
+        RingSlots::put(f + kCentre, centre);
+        RingSlots::put(f + kNormal, normal), RingSlots::put(f + kBinormal, binormal);
     }
 
     // Which ring planes each sphere cuts (|h| < r, h its centre's height over the plane): a run of
-    // rings around its place on the path, found by walking from the previous particle's (members come
-    // by level, so along the path). Each ring then gets its circles in member order.
+    // rings around its place on the path, looked for first among the eight around the previous
+    // sphere's (members come by level, so along the path), four planes to an SSE register: the planes'
+    // coefficients by ring, three rings of padding before and five after that no sphere cuts.
+    const std::size_t stride = layout.v + kPlanePadding;
+    float* const plane[4] = {s.planes.data(), s.planes.data() + stride, s.planes.data() + 2 * stride,
+                             s.planes.data() + 3 * stride};
+    for (std::uint32_t i = 0; i < rings + kPlanePadding; ++i) {
+        const bool real = i >= 3 && i < rings + 3;
+        const float* f = s.frames.data() + kFrameFloats * std::size_t(real ? i - 3 : 0) + kPlane;
+        for (int c = 0; c < 4; ++c) plane[c][i] = real ? f[c] : (c == 3 ? kNoPlane : 0.0f);
+    }
     const auto height = [&](const Vec& x, std::uint32_t ring) {
-        return (x - RingSlots::get(slots.top(ring))).dot(RingSlots::get(slots.bottom(ring)));
+        const std::uint32_t i = ring + 3;
+        return plane[0][i] * x.x() + plane[1][i] * x.y() + plane[2][i] * x.z() + plane[3][i];
     };
+    const auto cut = [&](const Vec& x, std::uint32_t ring) { return std::abs(height(x, ring)) < radius; };
+    const __m128 lo_h = _mm_set1_ps(-radius), hi_h = _mm_set1_ps(radius);
+    // ring_first counts by a difference array first: +1 where a sphere's run starts, -1 past its end.
     const std::span<std::uint32_t> ring_first = s.ring_first.first(rings + 1);
     std::fill(ring_first.begin(), ring_first.end(), 0u);
     std::uint32_t walk = 0;
     for (std::uint32_t k = 0; k < members.size(); ++k) {
         const Vec x = position(local, k);
-        float h = height(x, walk);
-        while (h >= radius && walk + 1 < rings) h = height(x, ++walk);
-        while (h <= -radius && walk > 0) h = height(x, --walk);
-        std::uint32_t lo = walk, hi = walk;
-        if (std::abs(h) < radius) {
-            hi = walk + 1;
-            for (bool grew = true; grew;) {
-                grew = false;
-                if (hi - lo < kMaxRingsPerSphere && lo > 0 && std::abs(height(x, lo - 1)) < radius)
-                    --lo, grew = true;
-                if (hi - lo < kMaxRingsPerSphere && hi < rings && std::abs(height(x, hi)) < radius)
-                    ++hi, grew = true;
-            }
+        const __m128 vx = _mm_set1_ps(x.x()), vy = _mm_set1_ps(x.y()), vz = _mm_set1_ps(x.z());
+        std::uint32_t cuts = 0;  // bit o: ring walk + o - 3
+        for (std::uint32_t half = 0; half < 2; ++half) {
+            const std::size_t i = walk + 4 * half;
+            __m128 h = _mm_mul_ps(_mm_loadu_ps(plane[0] + i), vx);
+            h = _mm_add_ps(h, _mm_mul_ps(_mm_loadu_ps(plane[1] + i), vy));
+            h = _mm_add_ps(h, _mm_mul_ps(_mm_loadu_ps(plane[2] + i), vz));
+            h = _mm_add_ps(h, _mm_loadu_ps(plane[3] + i));
+            const __m128 in = _mm_and_ps(_mm_cmplt_ps(h, hi_h), _mm_cmpgt_ps(h, lo_h));
+            cuts |= static_cast<std::uint32_t>(_mm_movemask_ps(in)) << (4 * half);
         }
-        s.cut_first[k] = lo, s.cut_count[k] = static_cast<std::uint8_t>(hi - lo);
-        for (std::uint32_t ring = lo; ring < hi; ++ring) ++ring_first[ring + 1];
+        std::uint32_t lo = walk, count = 0;
+        bool open_below = true, open_above = true;  // the run may go on past the rings looked at
+        if (cuts != 0) {
+            const auto first = static_cast<std::uint32_t>(std::countr_zero(cuts));
+            count = static_cast<std::uint32_t>(std::countr_one(cuts >> first));
+            lo = walk + first - 3;
+            open_below = first == 0, open_above = first + count == 8;
+        } else {  // none there (a jump between beads, or a gap between stretched rings): walk to them
+            float h = height(x, walk);
+            while (h >= radius && walk + 1 < rings) h = height(x, ++walk);
+            while (h <= -radius && walk > 0) h = height(x, --walk);
+            lo = walk, count = std::abs(h) < radius ? 1 : 0;
+        }
+        if (count > 0 && open_below)
+            while (lo > 0 && count < kMaxRingsPerSphere && cut(x, lo - 1)) --lo, ++count;
+        if (count > 0 && open_above)
+            while (lo + count < rings && count < kMaxRingsPerSphere && cut(x, lo + count)) ++count;
+        count = std::min(count, kMaxRingsPerSphere);
+        if (count > 0) walk = lo;
+        s.cut_first[k] = lo, s.cut_count[k] = static_cast<std::uint8_t>(count);
+        ring_first[lo] += 1, ring_first[lo + count] -= 1;
     }
+    // Coverage per ring, then where each ring's circles start.
+    for (std::uint32_t ring = 1; ring < rings; ++ring) ring_first[ring] += ring_first[ring - 1];
+    for (std::uint32_t ring = rings; ring > 0; --ring) ring_first[ring] = ring_first[ring - 1];
+    ring_first[0] = 0;
     for (std::uint32_t ring = 0; ring < rings; ++ring) ring_first[ring + 1] += ring_first[ring];
     const std::span<std::uint32_t> cursor = s.ring_cursor.first(rings);
     std::copy_n(ring_first.begin(), rings, cursor.begin());
@@ -204,11 +244,12 @@ OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> mem
     for (std::uint32_t k = 0; k < members.size(); ++k) {
         const Vec x = position(local, k);
         for (std::uint32_t ring = s.cut_first[k]; ring < s.cut_first[k] + s.cut_count[k]; ++ring) {
-            const Vec d = x - RingSlots::get(slots.top(ring));
-            const float h = d.dot(RingSlots::get(slots.bottom(ring)));
+            const float* f = s.frames.data() + kFrameFloats * std::size_t(ring);
+            const Vec d = x - RingSlots::get(f + kCentre);
+            const float h = height(x, ring);
             const std::uint32_t c = cursor[ring]++;
-            s.circle_x[c] = d.dot(RingSlots::get(slots.top(ring) + 3));
-            s.circle_z[c] = d.dot(RingSlots::get(slots.bottom(ring) + 3));
+            s.circle_x[c] = d.dot(RingSlots::get(f + kNormal));
+            s.circle_z[c] = d.dot(RingSlots::get(f + kBinormal));
             s.circle_rho[c] = std::sqrt(std::max(r2 - h * h, 0.0f));
             if (ring == 0) reach_first = c == ring_first[0] ? radius - h : std::max(reach_first, radius - h);
             if (ring == rings - 1)
@@ -258,9 +299,9 @@ OrientedTube oriented_rings(ConstPositions p, std::span<const std::uint32_t> mem
 
     float widest = 0;
     for (std::uint32_t ring = 0; ring < rings; ++ring) {
-        const Vec centre = RingSlots::get(slots.top(ring));
-        const Vec n = RingSlots::get(slots.top(ring) + 3), b = RingSlots::get(slots.bottom(ring) + 3);
-        const Vec tangent = RingSlots::get(slots.bottom(ring));
+        const float* f = s.frames.data() + kFrameFloats * std::size_t(ring);
+        const Vec centre = RingSlots::get(f + kCentre), tangent = RingSlots::get(f + kPlane);
+        const Vec n = RingSlots::get(f + kNormal), b = RingSlots::get(f + kBinormal);
         float sum = 0;
         for (std::uint32_t k = 0; k < u; ++k) {
             float* v = slots.side(ring, k);

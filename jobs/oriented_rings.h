@@ -28,8 +28,12 @@ struct OrientedRingParams {
 
 // Rings one sphere adds its circle to at most: rings are at least 2/3 of a radius apart along a straight
 // path, so a sphere cuts three at most; more happens only where ring planes converge on the inside of a
-// bend tighter than the stream, and there the four nearest are kept.
+// bend tighter than the stream, and there the first four along the path are kept.
 inline constexpr std::uint32_t kMaxRingsPerSphere = 4;
+// Floats of one ring's frame in the scratch (its plane, centre and the plane's two axes, four each).
+inline constexpr std::uint32_t kFrameFloats = 16;
+// Rings of padding around the planes in the scratch (three before, five after).
+inline constexpr std::uint32_t kPlanePadding = 8;
 
 // Scratch of one branch: `path_*` and `arc` as long as its level count + 2; the members' positions and
 // cut rings as long as its members; the circles kMaxRingsPerSphere times that; ring_first layout.v + 1
@@ -40,6 +44,8 @@ struct RingScratch {
     std::span<std::uint32_t> level_start;  // level count + 1
     std::span<std::uint32_t> cut_first, ring_first, ring_cursor;
     std::span<std::uint8_t> cut_count;
+    std::span<float> frames;  // kFrameFloats x layout.v
+    std::span<float> planes;  // 4 x (layout.v + kPlanePadding)
 };
 
 // What one branch became: its ring count (at least 2, at most layout.v), its path's length and its

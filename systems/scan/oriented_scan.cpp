@@ -67,6 +67,8 @@ OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particl
     cut_first_.reserve(n), cut_count_.reserve(n);
     ring_first_.reserve(std::size_t(settings.max_groups) * (settings.v + 1)),
         ring_cursor_.reserve(std::size_t(settings.max_groups) * settings.v);
+    frames_.reserve(std::size_t(settings.max_groups) * kFrameFloats * settings.v);
+    planes_.reserve(std::size_t(settings.max_groups) * 4 * (settings.v + kPlanePadding));
     member_x_.reserve(n), member_y_.reserve(n), member_z_.reserve(n);
     grouped_.reserve(n);
 }
@@ -317,7 +319,10 @@ void OrientedScan::rings(ConstPositions p, std::uint32_t d, ScanOutput& out) {
         cut_first_.span(max_particles_).subspan(from, count),
         ring_first_.span(ring_first_.capacity()).subspan(d * (layout_.v + 1), layout_.v + 1),
         ring_cursor_.span(ring_cursor_.capacity()).subspan(d * layout_.v, layout_.v),
-        cut_count_.span(max_particles_).subspan(from, count)};
+        cut_count_.span(max_particles_).subspan(from, count),
+        frames_.span(frames_.capacity()).subspan(d * kFrameFloats * layout_.v, kFrameFloats * layout_.v),
+        planes_.span(planes_.capacity())
+            .subspan(d * 4 * (layout_.v + kPlanePadding), 4 * (layout_.v + kPlanePadding))};
     const OrientedRingParams params{layout_,           settings_.radius,
                                     bead_link(),       settings_.radius,
                                     settings_.section, {cos_t_.span(layout_.u), sin_t_.span(layout_.u)}};

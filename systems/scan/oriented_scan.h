@@ -4,9 +4,9 @@
 // by the stream's own path (jobs/stream_skeleton.h, jobs/oriented_rings.h). Jobs of a frame, in order
 // (* = independent items, run in parallel):
 //
-//   link               beads: the particles of each cell of half the grouping distance, at their centroid
+//   link               beads: the particles of each cell one grouping distance wide, at their centroid
 //                      (a stream holds tens of particles per link, the path needs a few points per link);
-//                      components of beads within the grouping distance
+//                      their links by a sweep in cell order (jobs/grid_links.h); components
 //   -> skeleton(c)*    per component of two or more particles: geodesic levels, nodes, branches of beads
 //   -> cylinders       a pool cylinder per branch, in component order (beyond the pool: spheres)
 //   -> rings(b)*       per branch: path, ring frames, radii, positions
@@ -127,6 +127,7 @@ class OrientedScan {
         circle_z_, circle_rho_;
     AlignedArray<std::uint32_t> level_start_, cut_first_, ring_first_, ring_cursor_;
     AlignedArray<std::uint8_t> cut_count_;
+    AlignedArray<float> frames_, planes_;
     AlignedArray<std::uint8_t> grouped_;
 };
 
