@@ -1,6 +1,7 @@
 // The beads' links by sweeping cells in key order (jobs/grid_links.h) against every pair tested by
 // brute force: the same set of pairs, each once with a < b, on a jittered grid with holes and on points
-// near their cells' corners (where a link spans the full reach), and rows that hold both ends of each.
+// near their cells' corners (where a link spans the full reach), and rows that hold both ends of each;
+// the cells' radix sort (jobs/cell_radix_sort.h) against a stable sort of the keys.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "jobs/cell_radix_sort.h"
 #include "jobs/grid_links.h"
 
 using namespace rivulet;
@@ -117,4 +119,22 @@ TEST(GridLinks, EmptyAndLonePoints) {
         return p;
     }();
     EXPECT_EQ(grid_link_pairs(far.pos(), far.key, 2, 1.5f, a, b, l), 0u);
+}
+
+TEST(CellRadixSort, SameOrderAsAStableSortOfTheKeys) {
+    // Cells of fields as wide as a pass and wider (two passes of y), with ties to keep in index order.
+    std::mt19937 rng(7);
+    for (const std::uint32_t max_y : {3u, 2047u, 70000u}) {
+        const std::size_t n = 5000;
+        std::vector<std::uint64_t> key(n), key_tmp(n), want_key(n);
+        std::vector<std::uint32_t> order(n), order_tmp(n), counts(kCellSortDigits), want(n);
+        for (auto& k : key) k = pack_cell_key(2 + rng() % 40, 2 + rng() % (max_y - 1), 2 + rng() % 9);
+        for (std::uint32_t i = 0; i < n; ++i) want[i] = i;
+        std::stable_sort(want.begin(), want.end(),
+                         [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+        for (std::size_t i = 0; i < n; ++i) want_key[i] = key[want[i]];
+        cell_radix_sort({key, key_tmp, order, order_tmp, counts}, 41, max_y, 10);
+        EXPECT_EQ(order, want) << "max_y " << max_y;
+        EXPECT_EQ(key, want_key) << "max_y " << max_y;
+    }
 }

@@ -2,12 +2,12 @@
 
 #include <fmt/format.h>
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 
+#include "jobs/cell_radix_sort.h"
 #include "jobs/cylinder_normals.h"
 #include "jobs/grid_links.h"
 #include "jobs/isolated_particles.h"
@@ -35,10 +35,9 @@ OrientedScan::OrientedScan(const ScanSettings& settings, std::size_t max_particl
     cos_t_.reserve(settings.u), sin_t_.reserve(settings.u);
     fill_angle_table(cos_t_.span(settings.u), sin_t_.span(settings.u));
     const std::size_t n = max_particles;
-    heads_.reserve(std::bit_ceil(std::max<std::size_t>(n, 64)) + 1), order_.reserve(n), bucket_.reserve(n);
-    sorted_x_.reserve(n), sorted_y_.reserve(n), sorted_z_.reserve(n);
-    cell_key_.reserve(n), bead_key_.reserve(n), by_cell_.reserve(n), bead_first_.reserve(n + 1),
-        link_first_.reserve(n + 1);
+    order_tmp_.reserve(n), counts_.reserve(kCellSortDigits);
+    cell_key_.reserve(n), key_tmp_.reserve(n), bead_key_.reserve(n), by_cell_.reserve(n),
+        bead_first_.reserve(n + 1), link_first_.reserve(n + 1);
     pair_a_.reserve(4 * n), pair_b_.reserve(4 * n), pair_length_.reserve(4 * n);
     link_to_.reserve(8 * n), link_length_.reserve(8 * n);
     bead_x_.reserve(n), bead_y_.reserve(n), bead_z_.reserve(n);
@@ -112,40 +111,27 @@ void OrientedScan::link(ConstPositions p) {
                 "particles span {:.0f} grouping distances along an axis (or are not finite): raise --epsilon",
                 (double(hi[a]) - double(lo[a])) / link));
 
-    // Beads: particles sorted by (cell, index) (a counting sort by hashed cell, then the few buckets that
-    // hold more than one cell sorted apart); each cell's particles at their centroid.
+    // Beads: particles sorted by (cell, index) (jobs/cell_radix_sort.h); each cell's particles at their
+    // centroid, so the beads come in cell order.
     const float inv = 1.0f / cell;
-    const std::uint32_t table = std::bit_ceil(std::max(n, 64u)), mask = table - 1;
-    const std::span<std::uint32_t> heads = heads_.span(table + 1), bucket = bucket_.span(n);
-    std::fill(heads.begin(), heads.end(), 0u);
-    for (std::uint32_t i = 0; i < n; ++i) {
-        const auto ix = static_cast<std::uint32_t>((p.x[i] - lo[0]) * inv) + kLinkReach;
-        const auto iy = static_cast<std::uint32_t>((p.y[i] - lo[1]) * inv) + kLinkReach;
-        const auto iz = static_cast<std::uint32_t>((p.z[i] - lo[2]) * inv) + kLinkReach;
-        cell_key_[i] = pack_cell_key(ix, iy, iz);
-        bucket[i] = (ix * 73856093u ^ iy * 19349663u ^ iz * 83492791u) & mask;
-        ++heads[bucket[i] + 1];
-    }
-    for (std::uint32_t b = 0; b < table; ++b) heads[b + 1] += heads[b];
-    for (std::uint32_t i = 0; i < n; ++i) by_cell_[heads[bucket[i]]++] = i;  // heads[b]: bucket b's end
-    const auto by_key = [this](std::uint32_t a, std::uint32_t b) {
-        return cell_key_[a] < cell_key_[b] || (cell_key_[a] == cell_key_[b] && a < b);
+    const auto index = [&](float v, int axis) {
+        return static_cast<std::uint32_t>((v - lo[axis]) * inv) + kLinkReach;
     };
-    for (std::uint32_t b = 0, begin = 0; b < table; begin = heads[b++]) {
-        std::uint32_t* first = by_cell_.data() + begin;
-        std::uint32_t* last = by_cell_.data() + heads[b];
-        if (last - first > 1 && !std::is_sorted(first, last, by_key)) std::sort(first, last, by_key);
-    }
+    for (std::uint32_t i = 0; i < n; ++i)
+        cell_key_[i] = pack_cell_key(index(p.x[i], 0), index(p.y[i], 1), index(p.z[i], 2));
+    cell_radix_sort({cell_key_.span(n), key_tmp_.span(n), by_cell_.span(n), order_tmp_.span(n),
+                     counts_.span(kCellSortDigits)},
+                    index(hi[0], 0), index(hi[1], 1), index(hi[2], 2));
     for (std::uint32_t k = 0; k < n; ++k) {
         const std::uint32_t i = by_cell_[k];
-        if (k == 0 || cell_key_[i] != cell_key_[by_cell_[k - 1]]) {
+        if (k == 0 || cell_key_[k] != cell_key_[k - 1]) {
             if (beads_ > 0) {
                 const float inv_count = 1.0f / static_cast<float>(k - bead_first_[beads_ - 1]);
                 bead_x_[beads_ - 1] *= inv_count, bead_y_[beads_ - 1] *= inv_count,
                     bead_z_[beads_ - 1] *= inv_count;
             }
             bead_first_[beads_] = k;
-            bead_key_[beads_] = cell_key_[i];
+            bead_key_[beads_] = cell_key_[k];
             bead_x_[beads_] = bead_y_[beads_] = bead_z_[beads_] = 0;
             ++beads_;
         }
@@ -154,9 +140,6 @@ void OrientedScan::link(ConstPositions p) {
     const float inv_last = 1.0f / static_cast<float>(n - bead_first_[beads_ - 1]);
     bead_x_[beads_ - 1] *= inv_last, bead_y_[beads_ - 1] *= inv_last, bead_z_[beads_ - 1] *= inv_last;
     bead_first_[beads_] = n;
-    // Beads in order of their cells' keys, which the hash does not give: sort them (a bead's particles
-    // move with it).
-    sort_beads_by_key();
 
     // The beads' links; the pair buffers grow rarely (a frame far denser than any before).
     const auto pairs = [&] {
@@ -193,30 +176,6 @@ void OrientedScan::link(ConstPositions p) {
         next += size;
     }
     for (std::uint32_t i = 0; i < beads_; ++i) members_[cursor[root_[i]]++] = i;
-}
-
-void OrientedScan::sort_beads_by_key() {
-    const std::span<std::uint32_t> order = order_.span(beads_);
-    for (std::uint32_t b = 0; b < beads_; ++b) order[b] = b;
-    if (std::is_sorted(bead_key_.data(), bead_key_.data() + beads_)) return;
-    std::sort(order.begin(), order.end(),
-              [this](std::uint32_t a, std::uint32_t b) { return bead_key_[a] < bead_key_[b]; });
-    const std::span<std::uint32_t> particles = bucket_.span(particles_);
-    std::uint32_t at = 0;
-    for (std::uint32_t k = 0; k < beads_; ++k) {
-        const std::uint32_t b = order[k];
-        sorted_x_[k] = bead_x_[b], sorted_y_[k] = bead_y_[b], sorted_z_[k] = bead_z_[b];
-        cell_key_[k] = bead_key_[b];
-        const std::uint32_t count = bead_first_[b + 1] - bead_first_[b];
-        std::copy_n(by_cell_.data() + bead_first_[b], count, particles.data() + at);
-        order[k] = at;  // the bead's new first particle
-        at += count;
-    }
-    for (std::uint32_t k = 0; k < beads_; ++k) {
-        bead_x_[k] = sorted_x_[k], bead_y_[k] = sorted_y_[k], bead_z_[k] = sorted_z_[k];
-        bead_key_[k] = cell_key_[k], bead_first_[k] = order[k];
-    }
-    std::copy(particles.begin(), particles.end(), by_cell_.data());
 }
 
 SkeletonScratch OrientedScan::scratch(std::uint32_t c) {

@@ -84,12 +84,10 @@ class OrientedScan {
     // Cells of two beads linked are at most this many apart (kBeadLink / kBeadCell, rounded up).
     static constexpr std::uint32_t kLinkReach = 2;
     static_assert(kLinkReach >= kBeadLink / kBeadCell);
-    AlignedArray<std::uint32_t> heads_, order_, bucket_;
-    AlignedArray<float> sorted_x_, sorted_y_, sorted_z_;
-    AlignedArray<std::uint64_t> cell_key_, bead_key_;
+    AlignedArray<std::uint32_t> order_tmp_, counts_;
+    AlignedArray<std::uint64_t> cell_key_, key_tmp_, bead_key_;
     AlignedArray<std::uint32_t> by_cell_, bead_first_;  // particles by bead; bead b's: [first[b], first[b+1])
-    void sort_beads_by_key();
-    AlignedArray<std::uint32_t> pair_a_, pair_b_;  // the beads' links, once each (jobs/grid_links.h)
+    AlignedArray<std::uint32_t> pair_a_, pair_b_;       // the beads' links, once each (jobs/grid_links.h)
     AlignedArray<float> pair_length_;
     AlignedArray<float> bead_x_, bead_y_, bead_z_;
     std::uint32_t beads_ = 0;
