@@ -1,15 +1,18 @@
 // Scan conversion with cylinders along the stream's path: a horizontal hose and a parabolic arc of
 // particles with a known circular cross-section come out as one round tube of the stream's radius along
-// their whole length (the V-axis cylinders spread the arc's top over its horizontal run), closed, and the
-// same bytes on 1 and 2 threads.
+// their whole length (the V-axis cylinders spread the arc's top over its horizontal run), closed, with each
+// ring's radii those of every sphere that cuts its plane, and the same bytes on 1 and 2 threads.
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
+
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
 
+#include "jobs/cross_section.h"
 #include "runtime/lib/frame_graph.h"
 #include "runtime/lib/scan_jobs.h"
 #include "support/test_support.h"
@@ -167,6 +170,54 @@ TEST(OrientedScan, HorizontalHoseIsARoundTubeOfTheStreamsRadius) {
 TEST(OrientedScan, ParabolicArcIsOneRoundTubeOverItsTop) {
     const Centreline line = arc();
     expect_round_tube(line, extract(stream(line)), settings().u);
+}
+
+// Each ring's radii against the seed's radial function over every sphere that cuts its plane, found by
+// testing all of them: the job finds the cut planes by walking from each sphere's predecessor, and a
+// sphere it missed (or one it gave the wrong ring) moves a radius. The ring's frame is read back from its
+// vertices: the inner rings' pole sits at the centre, vertex 0 lies along the first axis, vertex u/4 along
+// the second.
+void expect_radii_from_every_cut(const Centreline& line) {
+    const PointCloud c = stream(line);
+    const Tube t = extract(c);
+    const ScanSettings s = settings();
+    ASSERT_EQ(s.u % 4, 0u);
+    ASSERT_EQ(t.out.draw_count, 1u);
+    const CylinderLayout layout{s.u, s.v};
+    std::vector<float> cos_t(s.u), sin_t(s.u), r(s.u), tmp(s.u), cx, cz, rho;
+    fill_angle_table(cos_t, sin_t);
+    const auto vertex = [&](std::uint32_t index) {
+        const float* v = t.out.vertices.data() + 6 * std::size_t(index);
+        return Eigen::Vector3f(v[0], v[1], v[2]);
+    };
+    int compared = 0;
+    for (std::uint32_t ring = t.out.draws[0].vmin + 1; ring < t.out.draws[0].vmax; ++ring) {
+        const Eigen::Vector3f centre = vertex(layout.top_pole(ring));
+        const Eigen::Vector3f n = (vertex(layout.side_vertex(ring, 0)) - centre).normalized();
+        const Eigen::Vector3f b = (vertex(layout.side_vertex(ring, s.u / 4)) - centre).normalized();
+        const Eigen::Vector3f tangent = n.cross(b);
+        cx.clear(), cz.clear(), rho.clear();
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            const Eigen::Vector3f d = Eigen::Vector3f(c.x[i], c.y[i], c.z[i]) - centre;
+            const float h = d.dot(tangent);
+            if (!(std::abs(h) < kRadius) || d.norm() > 10 * kRadius) continue;
+            cx.push_back(d.dot(n)), cz.push_back(d.dot(b)),
+                rho.push_back(std::sqrt(kRadius * kRadius - h * h));
+        }
+        if (cx.empty()) continue;
+        circle_maxima({cx, cz, rho}, {cos_t, sin_t}, r);
+        smooth_cyclic(r, s.section.smoothing_iterations, tmp);
+        for (std::uint32_t k = 0; k < s.u; ++k)
+            ASSERT_NEAR((vertex(layout.side_vertex(ring, k)) - centre).norm(), r[k], 2e-5f)
+                << "ring " << ring << ", angle " << k << ", " << cx.size() << " spheres cut it";
+        ++compared;
+    }
+    EXPECT_GT(compared, 40);
+}
+
+TEST(OrientedScan, RingRadiiComeFromEverySphereThatCutsTheirPlane) {
+    expect_radii_from_every_cut(hose());
+    expect_radii_from_every_cut(arc());
 }
 
 // What the paper's V-axis cylinders make of the same arc: rings near its top spread along the whole
