@@ -1,9 +1,12 @@
 #include "jobs/density_splat.h"
 
+#include "jobs/cpu_dispatch.h"
 #include "jobs/simd4.h"
+#include "jobs/vector_lanes.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -207,9 +210,11 @@ std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const s
 
 namespace {
 
-// A group row's samples in whole 4-wide vectors.
-constexpr std::uint32_t kLanes = (kGroupEdge + 3) / 4 * 4;
-constexpr std::uint32_t kVectors = kLanes / 4;
+// A group row's samples in whole 8-wide vectors: a row read from any sample of the group in 4- or 8-wide
+// vectors stays inside it (the lanes past the group are summed but never read out).
+constexpr std::uint32_t kLanes = (kGroupEdge + 7) / 8 * 8;
+constexpr std::uint32_t kVectors = (kGroupEdge + 3) / 4;
+constexpr std::uint32_t kWideVectors = (kGroupEdge + 7) / 8;
 
 // A range test's margin, in samples: far above the rounding of the distances (about 1e-4 samples at
 // --max-dim 4096), so every sample whose computed q is positive is visited in every group that holds it
@@ -278,11 +283,120 @@ void splat_rows(const GroupFrame& g, const Particle& p, float* acc) {
     }
 }
 
+// The same rows eight lanes at a time (built for AVX2 inside splat_particles_avx2): the same operations
+// per sample in the same order (max as maxps: 0 where t - dx2 is not above 0), so the same bytes; a row of
+// up to eight samples is one vector instead of two.
+template <int N>
+RIVULET_INLINE void splat_rows_wide(const GroupFrame& g, const Particle& p, float* acc) {
+    using F8 = VectorLanes<8>::f;
+    const F8 zero = F8{} + 0.0f, pxv = F8{} + p.x, inv_h2v = F8{} + g.inv_h2;
+    F8 dx2[N];
+    for (int v = 0; v < N; ++v) {
+        F8 sx;
+        std::memcpy(&sx, g.sx + p.ia + 8 * v, sizeof sx);
+        const F8 d = sx - pxv;
+        dx2[v] = d * d * inv_h2v;
+    }
+    alignas(16) float dy2[kLanes];
+    for (int j = p.ja; j <= p.jb; ++j) dy2[j] = (g.sy[j] - p.y) * (g.sy[j] - p.y) * g.inv_h2;
+    for (int k = p.ka; k <= p.kb; ++k) {
+        const float qz = 1.0f - (g.sz[k] - p.z) * (g.sz[k] - p.z) * g.inv_h2;
+        if (!(qz > 0)) continue;
+        int jlo, jhi;
+        if (!sample_range(p.ty, std::sqrt(qz) * g.h_voxels, kGroupEdge - 1, jlo, jhi)) continue;
+        jlo = std::max(jlo, p.ja), jhi = std::min(jhi, p.jb);
+        float* slice = acc + std::size_t(k) * kGroupEdge * kLanes + p.ia;
+        for (int j = jlo; j <= jhi; ++j) {
+            const F8 t = F8{} + (qz - dy2[j]);
+            float* row = slice + std::size_t(j) * kLanes;
+            for (int v = 0; v < N; ++v) {
+                const F8 d = t - dx2[v];
+                const F8 q = d > zero ? d : zero;
+                F8 sum;
+                std::memcpy(&sum, row + 8 * v, sizeof sum);
+                sum += q * q * q;
+                std::memcpy(row + 8 * v, &sum, sizeof sum);
+            }
+        }
+    }
+}
+
+// A group's particles summed into `acc`, four or (kWide) eight samples of a row at a time.
+template <bool kWide>
+RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
+                                    std::uint32_t end, int ex, int ey, int ez, float* acc) {
+    for (std::uint32_t p = begin; p < end; ++p) {
+        const float px = sorted.x[p], py = sorted.y[p], pz = sorted.z[p];
+        const float ty = (py - g.sy[0]) * g.inv_voxel;
+        int ia, ib, ja, jb, ka, kb;
+        if (!sample_range((px - g.sx[0]) * g.inv_voxel, g.h_voxels, ex, ia, ib) ||
+            !sample_range(ty, g.h_voxels, ey, ja, jb) ||
+            !sample_range((pz - g.sz[0]) * g.inv_voxel, g.h_voxels, ez, ka, kb))
+            continue;
+        const Particle q{px, py, pz, ty, ia, ja, jb, ka, kb};
+        if constexpr (kWide) {
+            switch ((ib - ia) >> 3) {
+                case 0:
+                    splat_rows_wide<1>(g, q, acc);
+                    break;
+                case 1:
+                    splat_rows_wide<2>(g, q, acc);
+                    break;
+                default:
+                    splat_rows_wide<kWideVectors>(g, q, acc);
+                    break;
+            }
+            continue;
+        }
+        switch ((ib - ia) >> 2) {
+            case 0:
+                splat_rows<1>(g, q, acc);
+                break;
+            case 1:
+                splat_rows<2>(g, q, acc);
+                break;
+            case 2:
+                splat_rows<3>(g, q, acc);
+                break;
+            case 3:
+                splat_rows<4>(g, q, acc);
+                break;
+            default:
+                splat_rows<kVectors>(g, q, acc);
+                break;
+        }
+    }
+}
+
+RIVULET_AVX2 void splat_particles_avx2(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
+                                       std::uint32_t end, int ex, int ey, int ez, float* acc) {
+    splat_particles<true>(g, sorted, begin, end, ex, ey, ez, acc);
+}
+
+void splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
+                 std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
+                 std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max, bool wide);
+
 }  // namespace
 
 void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
                          std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
                          std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max) {
+    splat_group(grid, group, sorted, bin_start, brick_slot, atlas, slot_min, slot_max, cpu_has_avx2());
+}
+
+void density_splat_group_baseline(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
+                                  std::span<const std::uint32_t> bin_start,
+                                  std::span<const std::int32_t> brick_slot, std::span<float> atlas,
+                                  std::span<float> slot_min, std::span<float> slot_max) {
+    splat_group(grid, group, sorted, bin_start, brick_slot, atlas, slot_min, slot_max, false);
+}
+
+namespace {
+
+void splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
+                 std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
+                 std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max, bool wide) {
     const DensityGroups gs = density_groups(grid);
     const std::uint32_t ga = group % gs.gx, gb = (group / gs.gx) % gs.gy, gc = group / (gs.gx * gs.gy);
     const std::uint32_t a0 = ga * kGroupBricks, b0 = gb * kGroupBricks, c0 = gc * kGroupBricks;
@@ -309,33 +423,10 @@ void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPosi
     alignas(64) float acc[kGroupEdge * kGroupEdge * kLanes];
     std::fill(acc, acc + std::size_t(ez + 1) * kGroupEdge * kLanes, 0.0f);
     const GroupFrame g{sx, sy, sz, inv_voxel, h_voxels, inv_h2};
-    for (std::uint32_t p = bin_start[group]; p < bin_start[group + 1]; ++p) {
-        const float px = sorted.x[p], py = sorted.y[p], pz = sorted.z[p];
-        const float ty = (py - sy[0]) * inv_voxel;
-        int ia, ib, ja, jb, ka, kb;
-        if (!sample_range((px - sx[0]) * inv_voxel, h_voxels, ex, ia, ib) ||
-            !sample_range(ty, h_voxels, ey, ja, jb) ||
-            !sample_range((pz - sz[0]) * inv_voxel, h_voxels, ez, ka, kb))
-            continue;
-        const Particle q{px, py, pz, ty, ia, ja, jb, ka, kb};
-        switch ((ib - ia) >> 2) {
-            case 0:
-                splat_rows<1>(g, q, acc);
-                break;
-            case 1:
-                splat_rows<2>(g, q, acc);
-                break;
-            case 2:
-                splat_rows<3>(g, q, acc);
-                break;
-            case 3:
-                splat_rows<4>(g, q, acc);
-                break;
-            default:
-                splat_rows<kVectors>(g, q, acc);
-                break;
-        }
-    }
+    if (wide)
+        splat_particles_avx2(g, sorted, bin_start[group], bin_start[group + 1], ex, ey, ez, acc);
+    else
+        splat_particles<false>(g, sorted, bin_start[group], bin_start[group + 1], ex, ey, ez, acc);
     for (std::uint32_t lc = 0; lc < nc; ++lc)
         for (std::uint32_t lb = 0; lb < nb; ++lb)
             for (std::uint32_t la = 0; la < na; ++la) {
@@ -359,5 +450,7 @@ void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPosi
                 slot_min[slot] = lo, slot_max[slot] = hi;
             }
 }
+
+}  // namespace
 
 }  // namespace rivulet

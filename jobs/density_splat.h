@@ -82,5 +82,11 @@ std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const s
 void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
                          std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
                          std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max);
+// The x86-64 baseline build of the same (density_splat_group runs an AVX2 build where the CPU has it,
+// jobs/cpu_dispatch.h): the same bytes, for the tests that compare the two.
+void density_splat_group_baseline(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
+                                  std::span<const std::uint32_t> bin_start,
+                                  std::span<const std::int32_t> brick_slot, std::span<float> atlas,
+                                  std::span<float> slot_min, std::span<float> slot_max);
 
 }  // namespace rivulet

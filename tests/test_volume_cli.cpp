@@ -1,6 +1,6 @@
 // `rivulet mesh --method volume` as users' scripts see it: a marching-cubes mesh of the density volume,
 // the volume as an OpenVDB file, the same bytes at 1 and 2 threads, and bad input rejected with a clear
-// message and a non-zero exit.
+// message and a non-zero exit; the AVX2 and baseline splats give the same bytes.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "jobs/counter_rng.h"
+#include "jobs/cpu_dispatch.h"
 #include "support/test_support.h"
 #include "systems/io/mesh_io.h"
 
@@ -65,6 +67,34 @@ TEST(VolumeCli, MeshOfALatticeIsItsBoxOneRadiusOut) {
     const std::string json1 = temp_path("volume1.json");
     ASSERT_EQ(run_cli("mesh " + in + " --method volume --radius 0.05 --threads 1 --json " + json1).status, 0);
     EXPECT_EQ(read_json(json1)["mesh_hash"], j["mesh_hash"]);
+}
+
+// The splat runs an AVX2 build (eight samples of a row at a time) where the CPU has it: the same volume,
+// so the same mesh bytes, as the baseline build's, with kernels spanning 8, 4 and 2.5 voxels (rows of
+// up to 17, 9 and 6 samples: three, two and one 8-wide vectors).
+TEST(VolumeCli, Avx2AndBaselineSplatsGiveTheSameBytes) {
+    if (!rivulet::cpu_has_avx2()) GTEST_SKIP() << "no AVX2 on this CPU (or RIVULET_NO_AVX2 is set)";
+    std::string text;
+    for (std::uint32_t i = 0; i < 3000; ++i)
+        text += std::to_string(0.6f * rivulet::counter_uniform(11, 0, i, 0)) + " " +
+                std::to_string(0.3f * rivulet::counter_uniform(11, 0, i, 1)) + " " +
+                std::to_string(0.4f * rivulet::counter_uniform(11, 0, i, 2)) + "\n";
+    const std::string in = temp_path("avx2_cloud.xyz");
+    write_text(in, text);
+    for (const char* voxel : {"0.01", "0.02", "0.032"}) {
+        std::string hash[2];
+        for (int baseline = 0; baseline < 2; ++baseline) {
+            const std::string json =
+                temp_path(std::string("avx2_") + voxel + (baseline ? "_base" : "") + ".json");
+            const Result r = run_cli("mesh " + in + " --method volume --radius 0.02 --voxel " + voxel +
+                                         " --threads 2 --json " + json,
+                                     baseline ? "RIVULET_NO_AVX2=1" : "");
+            ASSERT_EQ(r.status, 0) << r.output;
+            hash[baseline] = read_json(json)["mesh_hash"].get<std::string>();
+            EXPECT_GT(read_json(json)["triangles"].get<int>(), 1000);
+        }
+        EXPECT_EQ(hash[0], hash[1]) << "voxel " << voxel;
+    }
 }
 
 TEST(VolumeCli, WritesAnOpenVdbFile) {
