@@ -373,30 +373,11 @@ RIVULET_AVX2 void splat_particles_avx2(const GroupFrame& g, ConstPositions sorte
     splat_particles<true>(g, sorted, begin, end, ex, ey, ez, acc);
 }
 
-void splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
-                 std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
-                 std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max, bool wide);
-
 }  // namespace
 
 void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
                          std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
                          std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max) {
-    splat_group(grid, group, sorted, bin_start, brick_slot, atlas, slot_min, slot_max, cpu_has_avx2());
-}
-
-void density_splat_group_baseline(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
-                                  std::span<const std::uint32_t> bin_start,
-                                  std::span<const std::int32_t> brick_slot, std::span<float> atlas,
-                                  std::span<float> slot_min, std::span<float> slot_max) {
-    splat_group(grid, group, sorted, bin_start, brick_slot, atlas, slot_min, slot_max, false);
-}
-
-namespace {
-
-void splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
-                 std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
-                 std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max, bool wide) {
     const DensityGroups gs = density_groups(grid);
     const std::uint32_t ga = group % gs.gx, gb = (group / gs.gx) % gs.gy, gc = group / (gs.gx * gs.gy);
     const std::uint32_t a0 = ga * kGroupBricks, b0 = gb * kGroupBricks, c0 = gc * kGroupBricks;
@@ -423,7 +404,7 @@ void splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions so
     alignas(64) float acc[kGroupEdge * kGroupEdge * kLanes];
     std::fill(acc, acc + std::size_t(ez + 1) * kGroupEdge * kLanes, 0.0f);
     const GroupFrame g{sx, sy, sz, inv_voxel, h_voxels, inv_h2};
-    if (wide)
+    if (cpu_has_avx2())
         splat_particles_avx2(g, sorted, bin_start[group], bin_start[group + 1], ex, ey, ez, acc);
     else
         splat_particles<false>(g, sorted, bin_start[group], bin_start[group + 1], ex, ey, ez, acc);
@@ -450,7 +431,5 @@ void splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions so
                 slot_min[slot] = lo, slot_max[slot] = hi;
             }
 }
-
-}  // namespace
 
 }  // namespace rivulet

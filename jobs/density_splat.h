@@ -78,15 +78,10 @@ std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const s
 
 // One group: sums V W_poly6 of the particles it lists (sorted[bin_start[group], bin_start[group + 1])),
 // in order, into its samples, and writes every stored brick of it (brick_slot) to its atlas slot, with
-// its least and greatest samples to slot_min / slot_max.
+// its least and greatest samples to slot_min / slot_max. Runs an AVX2 build where the CPU has it
+// (jobs/cpu_dispatch.h; RIVULET_NO_AVX2=1 forces the baseline), the same bytes either way.
 void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
                          std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
                          std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max);
-// The x86-64 baseline build of the same (density_splat_group runs an AVX2 build where the CPU has it,
-// jobs/cpu_dispatch.h): the same bytes, for the tests that compare the two.
-void density_splat_group_baseline(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
-                                  std::span<const std::uint32_t> bin_start,
-                                  std::span<const std::int32_t> brick_slot, std::span<float> atlas,
-                                  std::span<float> slot_min, std::span<float> slot_max);
 
 }  // namespace rivulet
