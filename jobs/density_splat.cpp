@@ -1,7 +1,6 @@
 #include "jobs/density_splat.h"
 
 #include "jobs/cpu_dispatch.h"
-#include "jobs/simd4.h"
 #include "jobs/vector_lanes.h"
 
 #include <algorithm>
@@ -92,61 +91,72 @@ std::uint32_t brick_along(float p, float o, float inv_brick, std::uint32_t n) {
     return std::min(static_cast<std::uint32_t>(t), n - 1);
 }
 
-// Bricks [first, last] along one axis whose samples lie within h_voxels of coordinate p, conservatively
-// (a sample of margin each side). Brick c holds samples [8c, 8c + 8].
-inline void brick_range(float p, float o, float inv_voxel, float h_voxels, std::uint32_t n,
-                        std::uint32_t& first, std::uint32_t& last) {
-    const float t = (p - o) * inv_voxel;
-    const float top = float(n * kBrickCells);
-    const float a = std::clamp(t - h_voxels - 1.0f, 0.0f, top),
-                b = std::clamp(t + h_voxels + 1.0f, 0.0f, top);
-    const auto lo = static_cast<std::uint32_t>(a), hi = static_cast<std::uint32_t>(b);
-    first = lo >= kBrickCells ? (lo - kBrickCells + kBrickCells - 1) / kBrickCells : 0;
-    last = std::min(hi / kBrickCells, n - 1);
+// Bricks [first[i], last[i]] along one axis whose samples lie within h_voxels of coordinate p[i],
+// conservatively (a sample of margin each side), for n <= kRangeBlock coordinates. Brick c holds samples
+// [8c, 8c + 8]. Branch-free over arrays, so the compiler does it in vector lanes.
+constexpr std::size_t kRangeBlock = 64;
+inline void brick_ranges(const float* p, std::size_t n, float o, float inv_voxel, float h_voxels,
+                         std::uint32_t bricks, std::uint32_t* first, std::uint32_t* last) {
+    const float top = float(bricks * kBrickCells);
+    const std::int32_t last_brick = std::int32_t(bricks) - 1;
+    for (std::size_t i = 0; i < n; ++i) {
+        const float t = (p[i] - o) * inv_voxel;
+        const float a = std::min(std::max(t - h_voxels - 1.0f, 0.0f), top),
+                    b = std::min(std::max(t + h_voxels + 1.0f, 0.0f), top);
+        const auto lo = static_cast<std::int32_t>(a), hi = static_cast<std::int32_t>(b);
+        first[i] = std::uint32_t((std::max(lo, 1) - 1) / std::int32_t(kBrickCells));
+        last[i] = std::uint32_t(std::min(hi / std::int32_t(kBrickCells), last_brick));
+    }
 }
 
-// Calls f(group, mask) for every group with a brick whose samples lie within h of (x, y, z)
-// (conservatively), with the bricks of that group it reaches (density_bin_count_chunk's bit order).
+// Local bricks of group G (of n bricks along an axis) that bricks [lo, hi] cover, as bits.
+inline std::uint32_t group_bits(std::uint32_t G, std::uint32_t n, std::uint32_t lo, std::uint32_t hi) {
+    const std::uint32_t first = G * n;
+    std::uint32_t m = (1u << n) - 1;
+    if (lo > first) m &= ~0u << (lo - first);
+    if (hi < first + n - 1) m &= (2u << (hi - first)) - 1;
+    return m;
+}
+
+// Calls f(i, group, mask) for every particle i of `p` and every group with a brick whose samples lie
+// within h of it (conservatively), with the bricks of that group it reaches (GroupBrickMask's bit order).
 template <bool kMask, class F>
-void for_each_reached_group(const DensityGrid& g, float x, float y, float z, F&& f) {
+void for_each_reached_group(const DensityGrid& g, ConstPositions p, F&& f) {
     const float inv_voxel = 1.0f / g.voxel, hv = g.h * inv_voxel;
-    std::uint32_t a0, a1, b0, b1, c0, c1;
-    brick_range(x, g.ox, inv_voxel, hv, g.bx, a0, a1);
-    brick_range(y, g.oy, inv_voxel, hv, g.by, b0, b1);
-    brick_range(z, g.oz, inv_voxel, hv, g.bz, c0, c1);
-    const std::uint32_t gx = (g.bx + kGroupBricks - 1) / kGroupBricks,
+    const std::uint32_t gx = (g.bx + kGroupBricksX - 1) / kGroupBricksX,
                         gy = (g.by + kGroupBricks - 1) / kGroupBricks;
-    // Local bricks of group G along one axis that [lo, hi] covers, as bits.
-    const auto bits = [](std::uint32_t G, std::uint32_t lo, std::uint32_t hi) {
-        const std::uint32_t first = G * kGroupBricks;
-        std::uint32_t m = (1u << kGroupBricks) - 1;
-        if (lo > first) m &= ~0u << (lo - first);
-        if (hi < first + kGroupBricks - 1) m &= (2u << (hi - first)) - 1;
-        return m;
-    };
-    // The 3D mask as bit tricks on 2 x 2 x 2 bricks: the x bits repeated in each of the four (y, z)
-    // slots, kept where the slot's y and z bricks are both reached.
-    static_assert(kGroupBricks == 2, "the brick mask below assumes 2 x 2 x 2 bricks per group");
-    constexpr std::uint8_t kSpread[16] = {0x00, 0x03, 0x0c, 0x0f, 0x30, 0x33, 0x3c, 0x3f,
-                                          0xc0, 0xc3, 0xcc, 0xcf, 0xf0, 0xf3, 0xfc, 0xff};
-    for (std::uint32_t C = c0 / kGroupBricks; C <= c1 / kGroupBricks; ++C) {
-        const std::uint32_t mc = kMask ? bits(C, c0, c1) : 0;
-        for (std::uint32_t B = b0 / kGroupBricks; B <= b1 / kGroupBricks; ++B) {
-            std::uint32_t yz = 0;
-            if constexpr (kMask) {
-                const std::uint32_t mb = bits(B, b0, b1);
-                yz = kSpread[((mc & 1u) ? mb : 0u) | ((mc & 2u) ? mb << 2 : 0u)];
+    std::uint32_t a0[kRangeBlock], a1[kRangeBlock], b0[kRangeBlock], b1[kRangeBlock], c0[kRangeBlock],
+        c1[kRangeBlock];
+    for (std::size_t start = 0; start < p.size(); start += kRangeBlock) {
+        const std::size_t n = std::min(kRangeBlock, p.size() - start);
+        brick_ranges(p.x.data() + start, n, g.ox, inv_voxel, hv, g.bx, a0, a1);
+        brick_ranges(p.y.data() + start, n, g.oy, inv_voxel, hv, g.by, b0, b1);
+        brick_ranges(p.z.data() + start, n, g.oz, inv_voxel, hv, g.bz, c0, c1);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::uint32_t C = c0[i] / kGroupBricks; C <= c1[i] / kGroupBricks; ++C) {
+                const std::uint32_t mc = kMask ? group_bits(C, kGroupBricks, c0[i], c1[i]) : 0;
+                for (std::uint32_t B = b0[i] / kGroupBricks; B <= b1[i] / kGroupBricks; ++B) {
+                    const std::uint32_t mb = kMask ? group_bits(B, kGroupBricks, b0[i], b1[i]) : 0;
+                    for (std::uint32_t A = a0[i] / kGroupBricksX; A <= a1[i] / kGroupBricksX; ++A) {
+                        GroupBrickMask m = 0;
+                        if constexpr (kMask) {
+                            const GroupBrickMask ma = group_bits(A, kGroupBricksX, a0[i], a1[i]);
+                            for (std::uint32_t lc = 0; lc < kGroupBricks; ++lc)
+                                for (std::uint32_t lb = 0; lb < kGroupBricks; ++lb)
+                                    if ((mc >> lc & mb >> lb & 1u) != 0)
+                                        m |= ma << ((lc * kGroupBricks + lb) * kGroupBricksX);
+                        }
+                        f(start + i, (C * gy + B) * gx + A, m);
+                    }
+                }
             }
-            for (std::uint32_t A = a0 / kGroupBricks; A <= a1 / kGroupBricks; ++A)
-                f((C * gy + B) * gx + A, kMask ? (bits(A, a0, a1) * 0x55u) & yz : 0u);
-        }
     }
 }
 
 }  // namespace
 
 DensityGroups density_groups(const DensityGrid& grid) {
-    return {(grid.bx + kGroupBricks - 1) / kGroupBricks, (grid.by + kGroupBricks - 1) / kGroupBricks,
+    return {(grid.bx + kGroupBricksX - 1) / kGroupBricksX, (grid.by + kGroupBricks - 1) / kGroupBricks,
             (grid.bz + kGroupBricks - 1) / kGroupBricks};
 }
 
@@ -164,26 +174,22 @@ std::uint32_t density_max_bricks_per_particle(const DensityGrid& grid) {
 }
 
 void density_bin_count_chunk(const DensityGrid& grid, ConstPositions p, std::span<std::uint32_t> counts,
-                             std::span<std::uint8_t> masks) {
-    for (std::size_t i = 0; i < p.size(); ++i)
-        for_each_reached_group<true>(grid, p.x[i], p.y[i], p.z[i], [&](std::uint32_t g, std::uint32_t m) {
-            ++counts[g];
-            masks[g] = static_cast<std::uint8_t>(masks[g] | m);
-        });
+                             std::span<GroupBrickMask> masks) {
+    for_each_reached_group<true>(grid, p, [&](std::size_t, std::uint32_t g, GroupBrickMask m) {
+        ++counts[g];
+        masks[g] |= m;
+    });
 }
 
 void density_bin_scatter_chunk(const DensityGrid& grid, ConstPositions p, std::span<std::uint32_t> cursors,
                                const SortedPositionsOut& sorted) {
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const float x = p.x[i], y = p.y[i], z = p.z[i];
-        for_each_reached_group<false>(grid, x, y, z, [&](std::uint32_t g, std::uint32_t) {
-            const std::uint32_t at = cursors[g]++;
-            sorted.x[at] = x, sorted.y[at] = y, sorted.z[at] = z;
-        });
-    }
+    for_each_reached_group<false>(grid, p, [&](std::size_t i, std::uint32_t g, GroupBrickMask) {
+        const std::uint32_t at = cursors[g]++;
+        sorted.x[at] = p.x[i], sorted.y[at] = p.y[i], sorted.z[at] = p.z[i];
+    });
 }
 
-std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const std::uint8_t> masks,
+std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const GroupBrickMask> masks,
                                       std::span<std::int32_t> brick_slot, std::span<std::uint32_t> slot_brick,
                                       std::span<std::uint32_t> groups_out, std::uint32_t& group_count) {
     const DensityGroups gs = density_groups(grid);
@@ -191,10 +197,11 @@ std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const s
     for (std::uint32_t c = 0; c < grid.bz; ++c)
         for (std::uint32_t b = 0; b < grid.by; ++b) {
             const std::uint32_t row = ((c / kGroupBricks) * gs.gy + b / kGroupBricks) * gs.gx;
-            const std::uint32_t shift = ((c % kGroupBricks) * kGroupBricks + b % kGroupBricks) * kGroupBricks;
+            const std::uint32_t shift =
+                ((c % kGroupBricks) * kGroupBricks + b % kGroupBricks) * kGroupBricksX;
             for (std::uint32_t a = 0; a < grid.bx; ++a) {
                 const std::uint32_t brick = grid.brick_index(a, b, c);
-                if (!(masks[row + a / kGroupBricks] >> (shift + a % kGroupBricks) & 1u)) {
+                if (!(masks[row + a / kGroupBricksX] >> (shift + a % kGroupBricksX) & 1u)) {
                     brick_slot[brick] = -1;
                     continue;
                 }
@@ -210,11 +217,9 @@ std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const s
 
 namespace {
 
-// A group row's samples in whole 8-wide vectors: a row read from any sample of the group in 4- or 8-wide
-// vectors stays inside it (the lanes past the group are summed but never read out).
-constexpr std::uint32_t kLanes = (kGroupEdge + 7) / 8 * 8;
-constexpr std::uint32_t kVectors = (kGroupEdge + 3) / 4;
-constexpr std::uint32_t kWideVectors = (kGroupEdge + 7) / 8;
+// A group row's samples as lanes: a row of samples [ia, ib] read in L-wide vectors from ia ends by lane
+// ib + L - 1, inside the row for L <= 8 (the lanes past the group are summed but never read out).
+constexpr std::uint32_t kLanes = (kGroupEdgeX + 7) / 8 * 8 + 8;
 
 // A range test's margin, in samples: far above the rounding of the distances (about 1e-4 samples at
 // --max-dim 4096), so every sample whose computed q is positive is visited in every group that holds it
@@ -235,94 +240,67 @@ bool sample_range(float t, float r, int edge, int& first, int& last) {
 
 struct GroupFrame {
     const float* sx;  // kLanes sample x coordinates
-    const float* sy;  // kLanes sample y coordinates
+    const float* sy;  // kGroupEdge sample y coordinates
     const float* sz;  // kGroupEdge
     float inv_voxel, h_voxels, inv_h2;
 };
 struct Particle {
     float x, y, z;
     float ty;                // y in samples from the group's first
-    int ia, ja, jb, ka, kb;  // sample ranges it can reach; x: [ia, ia + 4 N)
+    int ia, ja, jb, ka, kb;  // sample ranges it can reach; x: [ia, ia + L vectors)
 };
 
-// One particle's rows: N vectors from sample ia on in each (unaligned, so a row of n samples costs
-// ceil(n / 4) vectors whatever its offset; a lane past the kernel adds q = 0).
-template <int N>
-void splat_rows(const GroupFrame& g, const Particle& p, float* acc) {
-    using simd::F4;
-    const F4 zero = simd::splat(0.0f), pxv = simd::splat(p.x), inv_h2v = simd::splat(g.inv_h2);
-    F4 dx2[N];
-    for (int v = 0; v < N; ++v) {
-        const F4 d = simd::load(g.sx + p.ia + 4 * v) - pxv;
+// One particle's rows, each as `vectors` (N when N > 0) L-wide vectors from sample ia on (unaligned, so
+// a row of n samples costs ceil(n / L) vectors whatever its offset; a lane past the kernel adds q = 0).
+// Every lane does the same IEEE operations in the same order whatever L (max as maxps: 0 where t - dx2 is
+// not above 0), so the baseline (L = 4) and AVX2 (L = 8) builds give the same bytes.
+constexpr int kTrimRows = 6;  // a particle's rows [ja, jb] past this many are trimmed per slice
+template <int L, int N>
+RIVULET_INLINE void splat_rows(const GroupFrame& g, const Particle& p, int vectors, float* acc) {
+    using V = typename VectorLanes<L>::f;
+    constexpr int kMaxVectors = N > 0 ? N : int(kLanes) / L;
+    const int n = N > 0 ? N : vectors;
+    const V zero = V{} + 0.0f, pxv = V{} + p.x, inv_h2v = V{} + g.inv_h2;
+    V dx2[kMaxVectors];
+    for (int v = 0; v < n; ++v) {
+        V sx;
+        std::memcpy(&sx, g.sx + p.ia + L * v, sizeof sx);
+        const V d = sx - pxv;
         dx2[v] = d * d * inv_h2v;
     }
-    // (sy - py)^2 / h^2 of the vectors holding rows [ja, jb], once for all its slices.
-    alignas(16) float dy2[kLanes];
-    const F4 pyv = simd::splat(p.y);
-    for (int v = p.ja >> 2; v <= p.jb >> 2; ++v) {
-        const F4 d = simd::load(g.sy + 4 * v) - pyv;
-        simd::store(dy2 + 4 * v, d * d * inv_h2v);
-    }
-    for (int k = p.ka; k <= p.kb; ++k) {
-        const float qz = 1.0f - (g.sz[k] - p.z) * (g.sz[k] - p.z) * g.inv_h2;
-        if (!(qz > 0)) continue;
-        // The slice's circle of rows. A row it misses by rounding has q <= 0 on every lane, and adds 0.
-        int jlo, jhi;
-        if (!sample_range(p.ty, std::sqrt(qz) * g.h_voxels, kGroupEdge - 1, jlo, jhi)) continue;
-        jlo = std::max(jlo, p.ja), jhi = std::min(jhi, p.jb);
-        float* slice = acc + std::size_t(k) * kGroupEdge * kLanes + p.ia;
-        for (int j = jlo; j <= jhi; ++j) {
-            const float qzy = qz - dy2[j];
-            float* row = slice + std::size_t(j) * kLanes;
-            const F4 t = simd::splat(qzy);
-            for (int v = 0; v < N; ++v) {
-                const F4 q = simd::max(t - dx2[v], zero);
-                simd::store(row + 4 * v, simd::load(row + 4 * v) + q * q * q);
-            }
-        }
-    }
-}
-
-// The same rows eight lanes at a time (built for AVX2 inside splat_particles_avx2): the same operations
-// per sample in the same order (max as maxps: 0 where t - dx2 is not above 0), so the same bytes; a row of
-// up to eight samples is one vector instead of two.
-template <int N>
-RIVULET_INLINE void splat_rows_wide(const GroupFrame& g, const Particle& p, float* acc) {
-    using F8 = VectorLanes<8>::f;
-    const F8 zero = F8{} + 0.0f, pxv = F8{} + p.x, inv_h2v = F8{} + g.inv_h2;
-    F8 dx2[N];
-    for (int v = 0; v < N; ++v) {
-        F8 sx;
-        std::memcpy(&sx, g.sx + p.ia + 8 * v, sizeof sx);
-        const F8 d = sx - pxv;
-        dx2[v] = d * d * inv_h2v;
-    }
-    alignas(16) float dy2[kLanes];
+    // (sy - py)^2 / h^2 of rows [ja, jb], once for all its slices.
+    float dy2[kGroupEdge];
     for (int j = p.ja; j <= p.jb; ++j) dy2[j] = (g.sy[j] - p.y) * (g.sy[j] - p.y) * g.inv_h2;
+    const bool wide = p.jb - p.ja >= kTrimRows;
     for (int k = p.ka; k <= p.kb; ++k) {
         const float qz = 1.0f - (g.sz[k] - p.z) * (g.sz[k] - p.z) * g.inv_h2;
         if (!(qz > 0)) continue;
-        int jlo, jhi;
-        if (!sample_range(p.ty, std::sqrt(qz) * g.h_voxels, kGroupEdge - 1, jlo, jhi)) continue;
-        jlo = std::max(jlo, p.ja), jhi = std::min(jhi, p.jb);
+        // Rows whose t is not above 0 add zeros. Where the kernel spans many rows the slice's circle
+        // trims the ends (the square's corners are many rows); where it spans few, the trimming's
+        // unpredictable branches cost more than the rows they save.
+        int jlo = p.ja, jhi = p.jb;
+        if (wide) {
+            while (jlo < jhi && !(qz - dy2[jlo] > 0)) ++jlo;
+            while (jhi > jlo && !(qz - dy2[jhi] > 0)) --jhi;
+        }
         float* slice = acc + std::size_t(k) * kGroupEdge * kLanes + p.ia;
         for (int j = jlo; j <= jhi; ++j) {
-            const F8 t = F8{} + (qz - dy2[j]);
+            const V t = V{} + (qz - dy2[j]);
             float* row = slice + std::size_t(j) * kLanes;
-            for (int v = 0; v < N; ++v) {
-                const F8 d = t - dx2[v];
-                const F8 q = d > zero ? d : zero;
-                F8 sum;
-                std::memcpy(&sum, row + 8 * v, sizeof sum);
+            for (int v = 0; v < n; ++v) {
+                const V d = t - dx2[v];
+                const V q = d > zero ? d : zero;
+                V sum;
+                std::memcpy(&sum, row + L * v, sizeof sum);
                 sum += q * q * q;
-                std::memcpy(row + 8 * v, &sum, sizeof sum);
+                std::memcpy(row + L * v, &sum, sizeof sum);
             }
         }
     }
 }
 
-// A group's particles summed into `acc`, four or (kWide) eight samples of a row at a time.
-template <bool kWide>
+// A group's particles summed into `acc`, L samples of a row at a time.
+template <int L>
 RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
                                     std::uint32_t end, int ex, int ey, int ez, float* acc) {
     for (std::uint32_t p = begin; p < end; ++p) {
@@ -333,44 +311,109 @@ RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, 
             !sample_range(ty, g.h_voxels, ey, ja, jb) ||
             !sample_range((pz - g.sz[0]) * g.inv_voxel, g.h_voxels, ez, ka, kb))
             continue;
+        // The ranges keep a margin so no group misses a sample whose q is positive; samples at h or
+        // beyond (q <= 0 whatever the other axes: a particle on a sample plane reaches one more each side)
+        // would add zeros, so the ends whose own axis alone puts them there are dropped.
+        const auto beyond = [&](float s, float c) { return (s - c) * (s - c) * g.inv_h2 >= 1.0f; };
+        while (ia < ib && beyond(g.sx[ia], px)) ++ia;
+        while (ib > ia && beyond(g.sx[ib], px)) --ib;
+        while (ja < jb && beyond(g.sy[ja], py)) ++ja;
+        while (jb > ja && beyond(g.sy[jb], py)) --jb;
         const Particle q{px, py, pz, ty, ia, ja, jb, ka, kb};
-        if constexpr (kWide) {
-            switch ((ib - ia) >> 3) {
-                case 0:
-                    splat_rows_wide<1>(g, q, acc);
-                    break;
-                case 1:
-                    splat_rows_wide<2>(g, q, acc);
-                    break;
-                default:
-                    splat_rows_wide<kWideVectors>(g, q, acc);
-                    break;
-            }
-            continue;
-        }
-        switch ((ib - ia) >> 2) {
-            case 0:
-                splat_rows<1>(g, q, acc);
-                break;
+        const int vectors = (ib - ia) / L + 1;
+        switch (vectors) {
             case 1:
-                splat_rows<2>(g, q, acc);
+                splat_rows<L, 1>(g, q, 1, acc);
                 break;
             case 2:
-                splat_rows<3>(g, q, acc);
+                splat_rows<L, 2>(g, q, 2, acc);
                 break;
             case 3:
-                splat_rows<4>(g, q, acc);
+                splat_rows<L, 3>(g, q, 3, acc);
                 break;
             default:
-                splat_rows<kVectors>(g, q, acc);
+                splat_rows<L, 0>(g, q, vectors, acc);
                 break;
         }
     }
 }
 
-RIVULET_AVX2 void splat_particles_avx2(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
-                                       std::uint32_t end, int ex, int ey, int ez, float* acc) {
-    splat_particles<true>(g, sorted, begin, end, ex, ey, ez, acc);
+// Where a group's sums go: its stored bricks' atlas slots, scaled, with each brick's least and greatest.
+struct GroupOut {
+    const DensityGrid& grid;
+    std::uint32_t a0, b0, c0, na, nb, nc;  // the group's first brick and its bricks inside the grid
+    std::span<const std::int32_t> brick_slot;
+    std::span<float> atlas, slot_min, slot_max;
+    float scale;
+};
+
+// One stored brick's samples out of `base` (its first sample in the group's sums), L at a time. Min and
+// max are exact, so the order they are taken in changes nothing.
+template <int L>
+RIVULET_INLINE void copy_out_brick(const GroupOut& o, const float* base, std::uint32_t slot) {
+    using V = typename VectorLanes<L>::f;
+    constexpr std::uint32_t kVectorSamples = kBrickEdge / L * L;
+    const V scale = V{} + o.scale;
+    V lo = V{} + base[0] * o.scale, hi = lo;
+    float slo = lo[0], shi = lo[0];
+    for (std::uint32_t k = 0; k < kBrickEdge; ++k)
+        for (std::uint32_t j = 0; j < kBrickEdge; ++j) {
+            float* out = o.atlas.data() + atlas_offset(slot, 0, j, k);
+            const float* row = base + (std::size_t(k) * kGroupEdge + j) * kLanes;
+            for (std::uint32_t i = 0; i < kVectorSamples; i += L) {
+                V f;
+                std::memcpy(&f, row + i, sizeof f);
+                f *= scale;
+                std::memcpy(out + i, &f, sizeof f);
+                lo = f < lo ? f : lo;
+                hi = f > hi ? f : hi;
+            }
+            for (std::uint32_t i = kVectorSamples; i < kBrickEdge; ++i) {
+                const float f = row[i] * o.scale;
+                out[i] = f;
+                slo = std::min(slo, f), shi = std::max(shi, f);
+            }
+        }
+    for (int l = 0; l < L; ++l) slo = std::min(slo, lo[l]), shi = std::max(shi, hi[l]);
+    o.slot_min[slot] = slo, o.slot_max[slot] = shi;
+}
+
+// A group's particles summed into `acc`, then copied out to its stored bricks.
+template <int L>
+RIVULET_INLINE void splat_group(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
+                                std::uint32_t end, const GroupOut& o, float* acc) {
+    splat_particles<L>(g, sorted, begin, end, int(o.na * kBrickCells), int(o.nb * kBrickCells),
+                       int(o.nc * kBrickCells), acc);
+    for (std::uint32_t lc = 0; lc < o.nc; ++lc)
+        for (std::uint32_t lb = 0; lb < o.nb; ++lb)
+            for (std::uint32_t la = 0; la < o.na; ++la) {
+                const std::int32_t s = o.brick_slot[o.grid.brick_index(o.a0 + la, o.b0 + lb, o.c0 + lc)];
+                if (s < 0) continue;
+                const float* base = acc +
+                                    (std::size_t(lc * kBrickCells) * kGroupEdge + lb * kBrickCells) * kLanes +
+                                    la * kBrickCells;
+                copy_out_brick<L>(o, base, static_cast<std::uint32_t>(s));
+            }
+}
+
+RIVULET_AVX2 void splat_group_avx2(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
+                                   std::uint32_t end, const GroupOut& o, float* acc) {
+    splat_group<8>(g, sorted, begin, end, o, acc);
+}
+
+// Lanes [first, last) of the group's rows that its stored bricks' samples and the vectors of the rows
+// reaching them cover (a particle's rows lie in the bricks it reaches, all stored).
+void stored_lanes(const DensityGrid& grid, std::uint32_t a0, std::uint32_t b0, std::uint32_t c0,
+                  std::uint32_t na, std::uint32_t nb, std::uint32_t nc,
+                  std::span<const std::int32_t> brick_slot, std::uint32_t& first, std::uint32_t& last) {
+    std::uint32_t lo = na, hi = 0;
+    for (std::uint32_t lc = 0; lc < nc; ++lc)
+        for (std::uint32_t lb = 0; lb < nb; ++lb)
+            for (std::uint32_t la = 0; la < na; ++la)
+                if (brick_slot[grid.brick_index(a0 + la, b0 + lb, c0 + lc)] >= 0)
+                    lo = std::min(lo, la), hi = std::max(hi, la);
+    first = lo < na ? lo * kBrickCells : 0;
+    last = lo < na ? std::min<std::uint32_t>((hi + 2) * kBrickCells, kLanes) : 0;
 }
 
 }  // namespace
@@ -380,20 +423,19 @@ void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPosi
                          std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max) {
     const DensityGroups gs = density_groups(grid);
     const std::uint32_t ga = group % gs.gx, gb = (group / gs.gx) % gs.gy, gc = group / (gs.gx * gs.gy);
-    const std::uint32_t a0 = ga * kGroupBricks, b0 = gb * kGroupBricks, c0 = gc * kGroupBricks;
+    const std::uint32_t a0 = ga * kGroupBricksX, b0 = gb * kGroupBricks, c0 = gc * kGroupBricks;
     // Bricks of the group inside the grid, per axis, and the last sample index they hold.
-    const std::uint32_t na = std::min(kGroupBricks, grid.bx - a0), nb = std::min(kGroupBricks, grid.by - b0),
+    const std::uint32_t na = std::min(kGroupBricksX, grid.bx - a0), nb = std::min(kGroupBricks, grid.by - b0),
                         nc = std::min(kGroupBricks, grid.bz - c0);
-    const int ex = int(na * kBrickCells), ey = int(nb * kBrickCells), ez = int(nc * kBrickCells);
+    const int ez = int(nc * kBrickCells);
     const std::uint32_t i0 = a0 * kBrickCells, j0 = b0 * kBrickCells, k0 = c0 * kBrickCells;
     // Sample positions exactly as DensityGrid computes them, and every distance from them, so a sample on
     // a face two groups share gets the same bits in both whatever range each visits. Lanes past the group
     // are summed but never read out.
-    alignas(16) float sx[kLanes];
-    alignas(16) float sy[kLanes];
-    float sz[kGroupEdge];
-    for (std::uint32_t i = 0; i < kLanes; ++i) sx[i] = grid.x(i0 + i), sy[i] = grid.y(j0 + i);
-    for (std::uint32_t i = 0; i < kGroupEdge; ++i) sz[i] = grid.z(k0 + i);
+    alignas(32) float sx[kLanes];
+    float sy[kGroupEdge], sz[kGroupEdge];
+    for (std::uint32_t i = 0; i < kLanes; ++i) sx[i] = grid.x(i0 + i);
+    for (std::uint32_t i = 0; i < kGroupEdge; ++i) sy[i] = grid.y(j0 + i), sz[i] = grid.z(k0 + i);
     const float inv_voxel = 1.0f / grid.voxel, h_voxels = grid.h * inv_voxel;
     const float inv_h2 = 1.0f / (grid.h * grid.h);
     // W_poly6 = 315 / (64 pi h^3) q^3 with q = 1 - r^2 / h^2: no h^9 to overflow at small h.
@@ -401,35 +443,21 @@ void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPosi
     const float scale =
         static_cast<float>(double(grid.volume) * 315.0 / (64.0 * std::numbers::pi * h * h * h));
 
+    // Only the lanes the stored bricks span are cleared (a row of 16 bricks is 157 KB of samples).
     alignas(64) float acc[kGroupEdge * kGroupEdge * kLanes];
-    std::fill(acc, acc + std::size_t(ez + 1) * kGroupEdge * kLanes, 0.0f);
+    std::uint32_t first, last;
+    stored_lanes(grid, a0, b0, c0, na, nb, nc, brick_slot, first, last);
+    for (int k = 0; k <= ez; ++k)
+        for (std::uint32_t j = 0; j < kGroupEdge; ++j) {
+            float* row = acc + (std::size_t(k) * kGroupEdge + j) * kLanes;
+            std::fill(row + first, row + last, 0.0f);
+        }
     const GroupFrame g{sx, sy, sz, inv_voxel, h_voxels, inv_h2};
+    const GroupOut o{grid, a0, b0, c0, na, nb, nc, brick_slot, atlas, slot_min, slot_max, scale};
     if (cpu_has_avx2())
-        splat_particles_avx2(g, sorted, bin_start[group], bin_start[group + 1], ex, ey, ez, acc);
+        splat_group_avx2(g, sorted, bin_start[group], bin_start[group + 1], o, acc);
     else
-        splat_particles<false>(g, sorted, bin_start[group], bin_start[group + 1], ex, ey, ez, acc);
-    for (std::uint32_t lc = 0; lc < nc; ++lc)
-        for (std::uint32_t lb = 0; lb < nb; ++lb)
-            for (std::uint32_t la = 0; la < na; ++la) {
-                const std::int32_t s = brick_slot[grid.brick_index(a0 + la, b0 + lb, c0 + lc)];
-                if (s < 0) continue;
-                const auto slot = static_cast<std::uint32_t>(s);
-                const float* base = acc +
-                                    (std::size_t(lc * kBrickCells) * kGroupEdge + lb * kBrickCells) * kLanes +
-                                    la * kBrickCells;
-                float lo = base[0] * scale, hi = lo;
-                for (std::uint32_t k = 0; k < kBrickEdge; ++k)
-                    for (std::uint32_t j = 0; j < kBrickEdge; ++j) {
-                        float* out = atlas.data() + atlas_offset(slot, 0, j, k);
-                        const float* row = base + (std::size_t(k) * kGroupEdge + j) * kLanes;
-                        for (std::uint32_t i = 0; i < kBrickEdge; ++i) {
-                            const float f = row[i] * scale;
-                            out[i] = f;
-                            lo = std::min(lo, f), hi = std::max(hi, f);
-                        }
-                    }
-                slot_min[slot] = lo, slot_max[slot] = hi;
-            }
+        splat_group<4>(g, sorted, bin_start[group], bin_start[group + 1], o, acc);
 }
 
 }  // namespace rivulet

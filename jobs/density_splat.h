@@ -44,22 +44,32 @@ std::uint32_t density_brick_of(const DensityGrid& grid, float x, float y, float 
 // Bricks one particle can reach at most (its entries in the bin sort).
 std::uint32_t density_max_bricks_per_particle(const DensityGrid& grid);
 
-// The bin sort lists particles per group of kGroupBricks^3 bricks rather than per brick: a particle
-// reaching several bricks of a group is listed and set up once, and the group sums its samples once
-// (the faces its bricks share included), then copies them out to its stored bricks.
+// The bin sort lists particles per group of bricks rather than per brick: a row of up to
+// kGroupBricksX bricks along x by kGroupBricks x kGroupBricks along y and z. A particle reaching several
+// bricks of a group is listed and set up once, and the group sums its samples once (the faces its bricks
+// share included), then copies them out to its stored bricks. Groups long in x keep a particle's rows of
+// samples whole (a row cut by a group's face costs a vector in each group) and list a particle in few
+// groups; two bricks across keep a group's samples in the core's second-level cache.
+inline constexpr std::uint32_t kGroupBricksX = 16;
 inline constexpr std::uint32_t kGroupBricks = 2;
-inline constexpr std::uint32_t kGroupEdge = kGroupBricks * kBrickCells + 1;  // samples per group edge
+inline constexpr std::uint32_t kGroupEdgeX = kGroupBricksX * kBrickCells + 1;  // samples per group row
+inline constexpr std::uint32_t kGroupEdge = kGroupBricks * kBrickCells + 1;    // along y and z
 struct DensityGroups {
     std::uint32_t gx = 0, gy = 0, gz = 0;
     std::uint32_t count() const { return gx * gy * gz; }
 };
 DensityGroups density_groups(const DensityGrid& grid);
 
+// Which bricks of its group something reaches: bit (c * kGroupBricks + b) * kGroupBricksX + a for the
+// group's local brick (a, b, c).
+using GroupBrickMask = std::uint64_t;
+static_assert(kGroupBricksX * kGroupBricks * kGroupBricks <= 64, "a group's bricks must fit its mask");
+
 // Pass 1 of the bin sort, per chunk: counts[g] += 1 for every group g one of the chunk's particles can
-// reach (conservatively), and masks[g] |= the bricks of g (bit (c * 2 + b) * 2 + a for local brick
-// (a, b, c)) it can reach. Both have density_groups(grid).count() entries, zeroed by the caller.
+// reach (conservatively), and masks[g] |= the bricks of g it can reach. Both have
+// density_groups(grid).count() entries, zeroed by the caller.
 void density_bin_count_chunk(const DensityGrid& grid, ConstPositions p, std::span<std::uint32_t> counts,
-                             std::span<std::uint8_t> masks);
+                             std::span<GroupBrickMask> masks);
 // Pass 2, per chunk: each particle's position at the cursor of every group it reaches (cursors from
 // chunk_major_prefix), so a group lists its particles in particle order.
 struct SortedPositionsOut {
@@ -72,7 +82,7 @@ void density_bin_scatter_chunk(const DensityGrid& grid, ConstPositions p, std::s
 // `masks`, one per group), numbered in brick order, and slot_brick (slot -> brick; slots past its size
 // are counted, not written); `groups_out` gets the groups with a stored brick, in order (it must hold
 // density_groups(grid).count()), and `group_count` their number. Returns the number of bricks to store.
-std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const std::uint8_t> masks,
+std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const GroupBrickMask> masks,
                                       std::span<std::int32_t> brick_slot, std::span<std::uint32_t> slot_brick,
                                       std::span<std::uint32_t> groups_out, std::uint32_t& group_count);
 

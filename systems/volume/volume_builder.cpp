@@ -45,12 +45,13 @@ VolumeBuilder::VolumeBuilder(const VolumeSettings& settings, std::size_t max_par
     chunking_ = ParticleChunks::at_most(max_particles, kMaxChunks);
     const std::size_t per_axis = settings.max_dim / kBrickCells;
     max_grid_bricks_ = per_axis * per_axis * per_axis;
-    const std::size_t groups_per_axis = (per_axis + kGroupBricks - 1) / kGroupBricks;
-    max_groups_ = groups_per_axis * groups_per_axis * groups_per_axis;
+    const std::size_t groups_x = (per_axis + kGroupBricksX - 1) / kGroupBricksX,
+                      groups_yz = (per_axis + kGroupBricks - 1) / kGroupBricks;
+    max_groups_ = groups_x * groups_yz * groups_yz;
     const std::size_t n = std::max<std::size_t>(max_particles, 1);
-    // Entries: about 4 per particle at the default kernel and voxel (a particle reaches about 1.6 groups
-    // per axis); grown by offsets() when a frame needs more.
-    sx_.reserve(4 * n), sy_.reserve(4 * n), sz_.reserve(4 * n);
+    // Entries: about 2.5 per particle at the default kernel and voxel (a particle reaches about 1.5
+    // groups along y and z, rarely two along x); grown by offsets() when a frame needs more.
+    sx_.reserve(3 * n), sy_.reserve(3 * n), sz_.reserve(3 * n);
     counts_.reserve(max_groups_ * kMaxChunks), cursors_.reserve(max_groups_ * kMaxChunks);
     masks_.reserve(max_groups_ * kMaxChunks);
     bin_start_.reserve(max_groups_ + 1);
@@ -90,7 +91,7 @@ void VolumeBuilder::plan(DensityVolume& out, std::size_t n) {
     splat_groups_ = 0;
     frame_groups_ = density_groups(out.grid).count();
     std::memset(counts_.data(), 0, frame_groups_ * frame_chunks_ * sizeof(std::uint32_t));
-    std::memset(masks_.data(), 0, frame_groups_ * frame_chunks_);
+    std::memset(masks_.data(), 0, frame_groups_ * frame_chunks_ * sizeof(GroupBrickMask));
 }
 
 void VolumeBuilder::count_chunk(const DensityVolume& out, ConstPositions p, std::size_t c) {
@@ -107,10 +108,10 @@ void VolumeBuilder::offsets(const DensityVolume&, std::size_t) {
         chunk_major_prefix(groups, n, groups, counts_.span(std::size_t(n) * groups),
                            cursors_.span(std::size_t(n) * groups), bin_start_.span(groups + 1));
     // The chunks' brick masks into chunk 0's.
-    std::uint8_t* merged = masks_.data();
+    GroupBrickMask* merged = masks_.data();
     for (std::size_t c = 1; c < frame_chunks_; ++c) {
-        const std::uint8_t* m = masks_.data() + c * groups;
-        for (std::uint32_t g = 0; g < groups; ++g) merged[g] = static_cast<std::uint8_t>(merged[g] | m[g]);
+        const GroupBrickMask* m = masks_.data() + c * groups;
+        for (std::uint32_t g = 0; g < groups; ++g) merged[g] |= m[g];
     }
     if (sx_.capacity() < entries) {
         const std::size_t grown = entries + entries / 4;

@@ -64,7 +64,7 @@ class VolumeBuilder {
     std::size_t frame_chunks_ = 0, frame_groups_ = 0;
     std::uint32_t splat_groups_ = 0;
     AlignedArray<std::uint32_t> counts_, cursors_, bin_start_;  // per brick group
-    AlignedArray<std::uint8_t> masks_;         // per chunk and group: the group's bricks the chunk reaches
+    AlignedArray<GroupBrickMask> masks_;       // per chunk and group: the group's bricks the chunk reaches
     AlignedArray<std::uint32_t> splat_group_;  // the groups with a stored brick, in order
     AlignedArray<float> sx_, sy_, sz_;         // each group's particles (entries), group after group
 };
