@@ -10,6 +10,17 @@
 #include "jobs/mesh_hash.h"
 
 namespace rivulet {
+namespace {
+
+// Per-chunk rows of the bin sort's tables start on their own cache lines: chunks counted or scattered on
+// different cores would otherwise share the lines between their rows, and every count and cursor
+// increment would bounce them between the cores.
+std::size_t chunk_row(std::size_t groups) {
+    constexpr std::size_t kWordsPerLine = 64 / sizeof(std::uint32_t);
+    return (groups + kWordsPerLine - 1) / kWordsPerLine * kWordsPerLine;
+}
+
+}  // namespace
 
 DensityVolumeView DensityVolume::view() const {
     DensityVolumeView v;
@@ -52,8 +63,8 @@ VolumeBuilder::VolumeBuilder(const VolumeSettings& settings, std::size_t max_par
     // Entries: about 2.5 per particle at the default kernel and voxel (a particle reaches about 1.5
     // groups along y and z, rarely two along x); grown by offsets() when a frame needs more.
     sx_.reserve(3 * n), sy_.reserve(3 * n), sz_.reserve(3 * n);
-    counts_.reserve(max_groups_ * kMaxChunks), cursors_.reserve(max_groups_ * kMaxChunks);
-    masks_.reserve(max_groups_ * kMaxChunks);
+    const std::size_t rows = chunk_row(max_groups_) * kMaxChunks;
+    counts_.reserve(rows), cursors_.reserve(rows), masks_.reserve(rows);
     bin_start_.reserve(max_groups_ + 1);
     splat_group_.reserve(max_groups_);
 }
@@ -90,27 +101,28 @@ void VolumeBuilder::plan(DensityVolume& out, std::size_t n) {
     out.stored = 0;
     splat_groups_ = 0;
     frame_groups_ = density_groups(out.grid).count();
-    std::memset(counts_.data(), 0, frame_groups_ * frame_chunks_ * sizeof(std::uint32_t));
-    std::memset(masks_.data(), 0, frame_groups_ * frame_chunks_ * sizeof(GroupBrickMask));
+    frame_row_ = chunk_row(frame_groups_);
+    std::memset(counts_.data(), 0, frame_row_ * frame_chunks_ * sizeof(std::uint32_t));
+    std::memset(masks_.data(), 0, frame_row_ * frame_chunks_ * sizeof(GroupBrickMask));
 }
 
 void VolumeBuilder::count_chunk(const DensityVolume& out, ConstPositions p, std::size_t c) {
     const ConstPositions part = chunk(p, c);
-    const std::size_t groups = frame_groups_;
-    density_bin_count_chunk(out.grid, part, counts_.span((c + 1) * groups).subspan(c * groups),
-                            masks_.span((c + 1) * groups).subspan(c * groups));
+    const std::size_t row = frame_row_;
+    density_bin_count_chunk(out.grid, part, counts_.span(c * row + frame_groups_).subspan(c * row),
+                            masks_.span(c * row + frame_groups_).subspan(c * row));
 }
 
 void VolumeBuilder::offsets(const DensityVolume&, std::size_t) {
     const auto groups = static_cast<std::uint32_t>(frame_groups_);
     const auto n = static_cast<std::uint32_t>(frame_chunks_);
     const std::uint32_t entries =
-        chunk_major_prefix(groups, n, groups, counts_.span(std::size_t(n) * groups),
-                           cursors_.span(std::size_t(n) * groups), bin_start_.span(groups + 1));
+        chunk_major_prefix(groups, n, frame_row_, counts_.span(std::size_t(n) * frame_row_),
+                           cursors_.span(std::size_t(n) * frame_row_), bin_start_.span(groups + 1));
     // The chunks' brick masks into chunk 0's.
     GroupBrickMask* merged = masks_.data();
     for (std::size_t c = 1; c < frame_chunks_; ++c) {
-        const GroupBrickMask* m = masks_.data() + c * groups;
+        const GroupBrickMask* m = masks_.data() + c * frame_row_;
         for (std::uint32_t g = 0; g < groups; ++g) merged[g] |= m[g];
     }
     if (sx_.capacity() < entries) {
@@ -123,7 +135,7 @@ void VolumeBuilder::scatter_chunk(const DensityVolume& out, ConstPositions p, st
     const ConstPositions part = chunk(p, c);
     const std::size_t n = sx_.capacity();
     density_bin_scatter_chunk(out.grid, part,
-                              cursors_.span((c + 1) * frame_groups_).subspan(c * frame_groups_),
+                              cursors_.span(c * frame_row_ + frame_groups_).subspan(c * frame_row_),
                               {sx_.span(n), sy_.span(n), sz_.span(n)});
 }
 

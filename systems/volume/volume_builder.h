@@ -61,9 +61,9 @@ class VolumeBuilder {
     ParticleChunks chunking_;
     std::size_t max_grid_bricks_ = 0, max_groups_ = 0;
     std::array<ParticleBounds, kMaxChunks> chunk_bounds_{};
-    std::size_t frame_chunks_ = 0, frame_groups_ = 0;
+    std::size_t frame_chunks_ = 0, frame_groups_ = 0, frame_row_ = 0;  // row: a chunk's table stride
     std::uint32_t splat_groups_ = 0;
-    AlignedArray<std::uint32_t> counts_, cursors_, bin_start_;  // per brick group
+    AlignedArray<std::uint32_t> counts_, cursors_, bin_start_;  // per chunk (rows of frame_row_) and group
     AlignedArray<GroupBrickMask> masks_;       // per chunk and group: the group's bricks the chunk reaches
     AlignedArray<std::uint32_t> splat_group_;  // the groups with a stored brick, in order
     AlignedArray<float> sx_, sy_, sz_;         // each group's particles (entries), group after group
