@@ -181,11 +181,10 @@ void density_bin_count_chunk(const DensityGrid& grid, ConstPositions p, std::spa
     });
 }
 
-void density_bin_scatter_chunk(const DensityGrid& grid, ConstPositions p, std::span<std::uint32_t> cursors,
-                               const SortedPositionsOut& sorted) {
+void density_bin_scatter_chunk(const DensityGrid& grid, ConstPositions p, std::uint32_t first,
+                               std::span<std::uint32_t> cursors, std::span<std::uint32_t> entries) {
     for_each_reached_group<false>(grid, p, [&](std::size_t i, std::uint32_t g, GroupBrickMask) {
-        const std::uint32_t at = cursors[g]++;
-        sorted.x[at] = p.x[i], sorted.y[at] = p.y[i], sorted.z[at] = p.z[i];
+        entries[cursors[g]++] = first + static_cast<std::uint32_t>(i);
     });
 }
 
@@ -301,10 +300,12 @@ RIVULET_INLINE void splat_rows(const GroupFrame& g, const Particle& p, int vecto
 
 // A group's particles summed into `acc`, L samples of a row at a time.
 template <int L>
-RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
-                                    std::uint32_t end, int ex, int ey, int ez, float* acc) {
+RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, const std::uint32_t* entries,
+                                    std::uint32_t begin, std::uint32_t end, int ex, int ey, int ez,
+                                    float* acc) {
     for (std::uint32_t p = begin; p < end; ++p) {
-        const float px = sorted.x[p], py = sorted.y[p], pz = sorted.z[p];
+        const std::uint32_t e = entries[p];
+        const float px = sorted.x[e], py = sorted.y[e], pz = sorted.z[e];
         const float ty = (py - g.sy[0]) * g.inv_voxel;
         int ia, ib, ja, jb, ka, kb;
         if (!sample_range((px - g.sx[0]) * g.inv_voxel, g.h_voxels, ex, ia, ib) ||
@@ -380,9 +381,9 @@ RIVULET_INLINE void copy_out_brick(const GroupOut& o, const float* base, std::ui
 
 // A group's particles summed into `acc`, then copied out to its stored bricks.
 template <int L>
-RIVULET_INLINE void splat_group(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
-                                std::uint32_t end, const GroupOut& o, float* acc) {
-    splat_particles<L>(g, sorted, begin, end, int(o.na * kBrickCells), int(o.nb * kBrickCells),
+RIVULET_INLINE void splat_group(const GroupFrame& g, ConstPositions sorted, const std::uint32_t* entries,
+                                std::uint32_t begin, std::uint32_t end, const GroupOut& o, float* acc) {
+    splat_particles<L>(g, sorted, entries, begin, end, int(o.na * kBrickCells), int(o.nb * kBrickCells),
                        int(o.nc * kBrickCells), acc);
     for (std::uint32_t lc = 0; lc < o.nc; ++lc)
         for (std::uint32_t lb = 0; lb < o.nb; ++lb)
@@ -396,9 +397,9 @@ RIVULET_INLINE void splat_group(const GroupFrame& g, ConstPositions sorted, std:
             }
 }
 
-RIVULET_AVX2 void splat_group_avx2(const GroupFrame& g, ConstPositions sorted, std::uint32_t begin,
-                                   std::uint32_t end, const GroupOut& o, float* acc) {
-    splat_group<8>(g, sorted, begin, end, o, acc);
+RIVULET_AVX2 void splat_group_avx2(const GroupFrame& g, ConstPositions sorted, const std::uint32_t* entries,
+                                   std::uint32_t begin, std::uint32_t end, const GroupOut& o, float* acc) {
+    splat_group<8>(g, sorted, entries, begin, end, o, acc);
 }
 
 // Lanes [first, last) of the group's rows that its stored bricks' samples and the vectors of the rows
@@ -419,8 +420,9 @@ void stored_lanes(const DensityGrid& grid, std::uint32_t a0, std::uint32_t b0, s
 }  // namespace
 
 void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
-                         std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
-                         std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max) {
+                         std::span<const std::uint32_t> entries, std::span<const std::uint32_t> bin_start,
+                         std::span<const std::int32_t> brick_slot, std::span<float> atlas,
+                         std::span<float> slot_min, std::span<float> slot_max) {
     const DensityGroups gs = density_groups(grid);
     const std::uint32_t ga = group % gs.gx, gb = (group / gs.gx) % gs.gy, gc = group / (gs.gx * gs.gy);
     const std::uint32_t a0 = ga * kGroupBricksX, b0 = gb * kGroupBricks, c0 = gc * kGroupBricks;
@@ -455,9 +457,9 @@ void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPosi
     const GroupFrame g{sx, sy, sz, inv_voxel, h_voxels, inv_h2};
     const GroupOut o{grid, a0, b0, c0, na, nb, nc, brick_slot, atlas, slot_min, slot_max, scale};
     if (cpu_has_avx2())
-        splat_group_avx2(g, sorted, bin_start[group], bin_start[group + 1], o, acc);
+        splat_group_avx2(g, sorted, entries.data(), bin_start[group], bin_start[group + 1], o, acc);
     else
-        splat_group<4>(g, sorted, bin_start[group], bin_start[group + 1], o, acc);
+        splat_group<4>(g, sorted, entries.data(), bin_start[group], bin_start[group + 1], o, acc);
 }
 
 }  // namespace rivulet

@@ -70,13 +70,10 @@ static_assert(kGroupBricksX * kGroupBricks * kGroupBricks <= 64, "a group's bric
 // density_groups(grid).count() entries, zeroed by the caller.
 void density_bin_count_chunk(const DensityGrid& grid, ConstPositions p, std::span<std::uint32_t> counts,
                              std::span<GroupBrickMask> masks);
-// Pass 2, per chunk: each particle's position at the cursor of every group it reaches (cursors from
-// chunk_major_prefix), so a group lists its particles in particle order.
-struct SortedPositionsOut {
-    std::span<float> x, y, z;
-};
-void density_bin_scatter_chunk(const DensityGrid& grid, ConstPositions p, std::span<std::uint32_t> cursors,
-                               const SortedPositionsOut& sorted);
+// Pass 2, per chunk: each particle's index (`first` + its index in `p`) at the cursor of every group it
+// reaches (cursors from chunk_major_prefix), so a group lists its particles in particle order.
+void density_bin_scatter_chunk(const DensityGrid& grid, ConstPositions p, std::uint32_t first,
+                               std::span<std::uint32_t> cursors, std::span<std::uint32_t> entries);
 
 // Serial: slot per brick (brick_slot, grid.bricks()) for every brick some particle reaches (its bit in
 // `masks`, one per group), numbered in brick order, and slot_brick (slot -> brick; slots past its size
@@ -86,12 +83,14 @@ std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const G
                                       std::span<std::int32_t> brick_slot, std::span<std::uint32_t> slot_brick,
                                       std::span<std::uint32_t> groups_out, std::uint32_t& group_count);
 
-// One group: sums V W_poly6 of the particles it lists (sorted[bin_start[group], bin_start[group + 1])),
+// One group: sums V W_poly6 of the particles of `p` it lists (entries [bin_start[group],
+// bin_start[group + 1])),
 // in order, into its samples, and writes every stored brick of it (brick_slot) to its atlas slot, with
 // its least and greatest samples to slot_min / slot_max. Runs an AVX2 build where the CPU has it
 // (jobs/cpu_dispatch.h; RIVULET_NO_AVX2=1 forces the baseline), the same bytes either way.
-void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
-                         std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
-                         std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max);
+void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions p,
+                         std::span<const std::uint32_t> entries, std::span<const std::uint32_t> bin_start,
+                         std::span<const std::int32_t> brick_slot, std::span<float> atlas,
+                         std::span<float> slot_min, std::span<float> slot_max);
 
 }  // namespace rivulet

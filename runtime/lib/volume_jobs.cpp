@@ -24,7 +24,7 @@ FrameGraph::JobId add_volume_jobs(FrameGraph& graph, VolumeBuilder& builder,
         graph.serial("volume.allocate", [b, out] { b->allocate(out()); }, {scatter});
     return graph.parallel(
         "volume.splat", [b, out] { return b->splat_items(out()); },
-        [b, out](std::size_t item) { b->splat_item(out(), item); }, {allocate});
+        [b, positions, out](std::size_t item) { b->splat_item(out(), positions(), item); }, {allocate});
 }
 
 }  // namespace rivulet

@@ -62,7 +62,7 @@ VolumeBuilder::VolumeBuilder(const VolumeSettings& settings, std::size_t max_par
     const std::size_t n = std::max<std::size_t>(max_particles, 1);
     // Entries: about 2.5 per particle at the default kernel and voxel (a particle reaches about 1.5
     // groups along y and z, rarely two along x); grown by offsets() when a frame needs more.
-    sx_.reserve(3 * n), sy_.reserve(3 * n), sz_.reserve(3 * n);
+    entries_.reserve(3 * n);
     const std::size_t rows = chunk_row(max_groups_) * kMaxChunks;
     counts_.reserve(rows), cursors_.reserve(rows), masks_.reserve(rows);
     bin_start_.reserve(max_groups_ + 1);
@@ -125,18 +125,16 @@ void VolumeBuilder::offsets(const DensityVolume&, std::size_t) {
         const GroupBrickMask* m = masks_.data() + c * frame_row_;
         for (std::uint32_t g = 0; g < groups; ++g) merged[g] |= m[g];
     }
-    if (sx_.capacity() < entries) {
-        const std::size_t grown = entries + entries / 4;
-        sx_.reserve(grown), sy_.reserve(grown), sz_.reserve(grown);
-    }
+    if (entries_.capacity() < entries) entries_.reserve(entries + entries / 4);
 }
 
 void VolumeBuilder::scatter_chunk(const DensityVolume& out, ConstPositions p, std::size_t c) {
     const ConstPositions part = chunk(p, c);
-    const std::size_t n = sx_.capacity();
-    density_bin_scatter_chunk(out.grid, part,
+    const auto first =
+        static_cast<std::uint32_t>(chunking_.range(c, std::min(p.size(), max_particles_)).begin);
+    density_bin_scatter_chunk(out.grid, part, first,
                               cursors_.span(c * frame_row_ + frame_groups_).subspan(c * frame_row_),
-                              {sx_.span(n), sy_.span(n), sz_.span(n)});
+                              entries_.span(entries_.capacity()));
 }
 
 void VolumeBuilder::allocate(DensityVolume& out) {
@@ -158,15 +156,14 @@ std::size_t VolumeBuilder::splat_items(const DensityVolume&) const {
     return std::max<std::size_t>((splat_groups_ + kSplatGroups - 1) / kSplatGroups, 1);
 }
 
-void VolumeBuilder::splat_item(DensityVolume& out, std::size_t item) const {
-    const std::size_t n = bin_start_[frame_groups_];
-    const ConstPositions sorted{sx_.span(n), sy_.span(n), sz_.span(n)};
+void VolumeBuilder::splat_item(DensityVolume& out, ConstPositions p, std::size_t item) const {
+    const std::span<const std::uint32_t> entries = entries_.span(bin_start_[frame_groups_]);
     const std::span<float> atlas = out.atlas.span(out.atlas.capacity());
     const std::size_t first = item * kSplatGroups,
                       last = std::min<std::size_t>(first + kSplatGroups, splat_groups_);
     const std::uint32_t bricks = out.grid.bricks();
     for (std::size_t i = first; i < last; ++i)
-        density_splat_group(out.grid, splat_group_[i], sorted, bin_start_.span(frame_groups_ + 1),
+        density_splat_group(out.grid, splat_group_[i], p, entries, bin_start_.span(frame_groups_ + 1),
                             out.brick_slot.span(bricks), atlas, out.slot_min.span(out.stored),
                             out.slot_max.span(out.stored));
 }

@@ -52,7 +52,7 @@ class VolumeBuilder {
     // Serial: atlas slots for the bricks particles reach; throws std::runtime_error past max_bricks.
     void allocate(DensityVolume& out);
     std::size_t splat_items(const DensityVolume& out) const;
-    void splat_item(DensityVolume& out, std::size_t item) const;
+    void splat_item(DensityVolume& out, ConstPositions p, std::size_t item) const;
 
   private:
     VolumeSettings settings_;
@@ -66,7 +66,7 @@ class VolumeBuilder {
     AlignedArray<std::uint32_t> counts_, cursors_, bin_start_;  // per chunk (rows of frame_row_) and group
     AlignedArray<GroupBrickMask> masks_;       // per chunk and group: the group's bricks the chunk reaches
     AlignedArray<std::uint32_t> splat_group_;  // the groups with a stored brick, in order
-    AlignedArray<float> sx_, sy_, sz_;         // each group's particles (entries), group after group
+    AlignedArray<std::uint32_t> entries_;      // each group's particles (indices), group after group
 };
 
 }  // namespace rivulet
