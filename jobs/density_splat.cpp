@@ -123,8 +123,7 @@ inline std::uint32_t group_bits(std::uint32_t G, std::uint32_t n, std::uint32_t 
 template <bool kMask, class F>
 void for_each_reached_group(const DensityGrid& g, ConstPositions p, F&& f) {
     const float inv_voxel = 1.0f / g.voxel, hv = g.h * inv_voxel;
-    const std::uint32_t gx = (g.bx + kGroupBricksX - 1) / kGroupBricksX,
-                        gy = (g.by + kGroupBricks - 1) / kGroupBricks;
+    const DensityGroups groups = density_groups(g);
     std::uint32_t a0[kRangeBlock], a1[kRangeBlock], b0[kRangeBlock], b1[kRangeBlock], c0[kRangeBlock],
         c1[kRangeBlock];
     for (std::size_t start = 0; start < p.size(); start += kRangeBlock) {
@@ -146,7 +145,7 @@ void for_each_reached_group(const DensityGrid& g, ConstPositions p, F&& f) {
                                     if ((mc >> lc & mb >> lb & 1u) != 0)
                                         m |= ma << ((lc * kGroupBricks + lb) * kGroupBricksX);
                         }
-                        f(start + i, (C * gy + B) * gx + A, m);
+                        f(start + i, (C * groups.gy + B) * groups.gx + A, m);
                     }
                 }
             }
@@ -245,15 +244,15 @@ struct GroupFrame {
 };
 struct Particle {
     float x, y, z;
-    float ty;                // y in samples from the group's first
     int ia, ja, jb, ka, kb;  // sample ranges it can reach; x: [ia, ia + L vectors)
 };
+
+constexpr int kTrimRows = 6;  // a particle's rows [ja, jb] past this many are trimmed per slice
 
 // One particle's rows, each as `vectors` (N when N > 0) L-wide vectors from sample ia on (unaligned, so
 // a row of n samples costs ceil(n / L) vectors whatever its offset; a lane past the kernel adds q = 0).
 // Every lane does the same IEEE operations in the same order whatever L (max as maxps: 0 where t - dx2 is
 // not above 0), so the baseline (L = 4) and AVX2 (L = 8) builds give the same bytes.
-constexpr int kTrimRows = 6;  // a particle's rows [ja, jb] past this many are trimmed per slice
 template <int L, int N>
 RIVULET_INLINE void splat_rows(const GroupFrame& g, const Particle& p, int vectors, float* acc) {
     using V = typename VectorLanes<L>::f;
@@ -320,7 +319,7 @@ RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, 
         while (ib > ia && beyond(g.sx[ib], px)) --ib;
         while (ja < jb && beyond(g.sy[ja], py)) ++ja;
         while (jb > ja && beyond(g.sy[jb], py)) --jb;
-        const Particle q{px, py, pz, ty, ia, ja, jb, ka, kb};
+        const Particle q{px, py, pz, ia, ja, jb, ka, kb};
         const int vectors = (ib - ia) / L + 1;
         switch (vectors) {
             case 1:
