@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstring>
 
 #include "jobs/counter_rng.h"
+#include "jobs/cpu_dispatch.h"
+#include "jobs/vector_lanes.h"
 
 namespace rivulet {
 namespace {
@@ -14,6 +17,15 @@ void add_density(std::span<std::uint32_t> density, std::uint32_t voxel, std::uin
 }
 
 constexpr int kCollisionRounds = 3;
+
+// The step-table column of voxel v: its material while active, else `outside` (kOutsideVoxel included).
+// Without branches: lanes mix inside and outside particles at random.
+std::uint32_t step_column(const DiffuseUpdateContext& ctx, std::uint32_t v, std::uint32_t outside) {
+    const bool in_grid = v < ctx.material.size();
+    const std::uint32_t at = in_grid ? v : 0;
+    const std::uint32_t m = ctx.material[at];
+    return in_grid & (m != kNoMaterial) & (ctx.blocked[at] == 0) ? m : outside;
+}
 
 // The step p0 -> p against one collider, in the collider's frame, so a moving collider pushes the
 // particles it sweeps over.
@@ -31,97 +43,336 @@ bool collide_one(const DiffuseColliderStep& c, float dt, float restitution, Vec3
     return true;
 }
 
+// A moving solid may push a particle into another one, so the tests repeat while they bounce; still
+// solids come last in each round and so always have the final word.
+void collide_all(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p, Vec3f& v) {
+    for (int round = 0; round < kCollisionRounds; ++round) {
+        bool hit = false;
+        for (int still = 0; still < 2; ++still)
+            for (const DiffuseColliderStep& c : ctx.colliders)
+                if ((c.offset0 == c.offset1) == (still == 1))
+                    hit |= collide_one(c, ctx.dt, ctx.restitution, p0, p, v);
+        if (!hit) break;
+    }
+}
+
+// Particle i moved from old_voxel to voxel (kOutsideVoxel: no active voxel): its density counts and the
+// attributes it now interpolates towards.
+void change_voxel(const DiffuseUpdateContext& ctx, std::size_t i, std::uint32_t old_voxel,
+                  std::uint32_t voxel) {
+    const DiffuseAttributeSpans& A = ctx.attributes;
+    const float t0 = A.duration[i] > 0 ? std::min(1.0f, A.elapsed[i] / A.duration[i]) : 1.0f;
+    if (old_voxel != kOutsideVoxel) add_density(ctx.density, old_voxel, ~0u);
+    const std::uint32_t now_rgba = lerp_rgba(A.from_rgba[i], A.to_rgba[i], t0);
+    const float now_size = A.from_size[i] + (A.to_size[i] - A.from_size[i]) * t0;
+    if (voxel != kOutsideVoxel) {
+        // Entering a voxel (re-entering included: the fade stops, life goes on).
+        add_density(ctx.density, voxel, 1);
+        const VoxelMaterial& m = ctx.materials[ctx.material[voxel]];
+        A.from_rgba[i] = now_rgba, A.to_rgba[i] = ctx.voxel_rgba[voxel];
+        A.from_size[i] = now_size, A.to_size[i] = m.size;
+        A.elapsed[i] = 0, A.duration[i] = m.interpolation_time;
+        A.fading[i] = 0;
+    } else if (!A.fading[i]) {
+        // Leaving the active voxels: fade by the last voxel's fading attributes (§4.3).
+        const std::uint16_t mi = old_voxel != kOutsideVoxel ? ctx.material[old_voxel] : kNoMaterial;
+        const VoxelMaterial& m = ctx.materials[mi == kNoMaterial ? 0 : mi];
+        A.from_rgba[i] = now_rgba;
+        A.to_rgba[i] =
+            m.fade_color_set ? m.fade_rgba : (now_rgba & 0x00ffffffu) | (m.fade_rgba & 0xff000000u);
+        A.from_size[i] = now_size, A.to_size[i] = m.fade_size;
+        A.elapsed[i] = 0, A.duration[i] = m.lifetime;
+        A.fading[i] = 1;
+    }
+    A.voxel[i] = voxel;
+}
+
+// L particles as vectors: F floats, I signed and U unsigned 32-bit lanes.
+template <int L>
+struct Lanes {
+    using F = typename VectorLanes<L>::f;
+    using I = typename VectorLanes<L>::i;
+    using U = typename VectorLanes<L>::u;
+    using B = typename VectorLanes<L>::b;
+    using F4 = typename VectorLanes<4>::f;
+
+    // The first n lanes from memory (the rest zero); n = L reads one vector.
+    template <class V, class T>
+    RIVULET_INLINE static void load(V& v, const T* p, int n) {
+        v = V{};
+        if (n == L)
+            std::memcpy(&v, p, sizeof v);
+        else
+            std::memcpy(&v, p, std::size_t(n) * sizeof(T));
+    }
+    template <class V, class T>
+    RIVULET_INLINE static void store(T* p, const V& v, int n) {
+        if (n == L)
+            std::memcpy(p, &v, sizeof v);
+        else
+            std::memcpy(p, &v, std::size_t(n) * sizeof(T));
+    }
+    // L whole sprites: x, y, z, size of four lanes transposed into four 16-byte stores, then the colours.
+    RIVULET_INLINE static void store_sprites(DiffuseSprite* out, const F& x, const F& y, const F& z,
+                                             const F& size, const U& rgba) {
+        for (int h = 0; h < L; h += 4) {
+            F4 x4, y4, z4, s4;
+            for (int l = 0; l < 4; ++l)
+                x4[l] = x[h + l], y4[l] = y[h + l], z4[l] = z[h + l], s4[l] = size[h + l];
+            const F4 t0 = __builtin_shufflevector(x4, y4, 0, 4, 1, 5),
+                     t1 = __builtin_shufflevector(x4, y4, 2, 6, 3, 7);
+            const F4 t2 = __builtin_shufflevector(z4, s4, 0, 4, 1, 5),
+                     t3 = __builtin_shufflevector(z4, s4, 2, 6, 3, 7);
+            const F4 rows[4] = {
+                __builtin_shufflevector(t0, t2, 0, 1, 4, 5), __builtin_shufflevector(t0, t2, 2, 3, 6, 7),
+                __builtin_shufflevector(t1, t3, 0, 1, 4, 5), __builtin_shufflevector(t1, t3, 2, 3, 6, 7)};
+            for (int l = 0; l < 4; ++l) {
+                std::memcpy(static_cast<void*>(&out[h + l]), &rows[l], sizeof(F4));
+                out[h + l].rgba = rgba[h + l];
+            }
+        }
+    }
+    // Bit l set where lane l of the comparison result is true.
+    RIVULET_INLINE static unsigned bits(I m) {
+        U t;
+        if constexpr (L == 8) {
+            t = U(m) & U{1, 2, 4, 8, 16, 32, 64, 128};
+            t |= __builtin_shufflevector(t, t, 4, 5, 6, 7, 0, 1, 2, 3);
+            t |= __builtin_shufflevector(t, t, 2, 3, 0, 1, 6, 7, 4, 5);
+            t |= __builtin_shufflevector(t, t, 1, 0, 3, 2, 5, 4, 7, 6);
+        } else {
+            t = U(m) & U{1, 2, 4, 8};
+            t |= __builtin_shufflevector(t, t, 2, 3, 0, 1);
+            t |= __builtin_shufflevector(t, t, 1, 0, 3, 2);
+        }
+        return t[0];
+    }
+};
+
+// One row of the step table at each lane's column. Eight lanes and eight columns: one permute where the
+// compiler has a variable shuffle (GCC); a lookup per lane otherwise.
+template <int L>
+RIVULET_INLINE void pick(typename Lanes<L>::F& out, const float* row, typename Lanes<L>::I column,
+                         bool eight_columns) {
+#if defined(__GNUC__) && !defined(__clang__)
+    if constexpr (L == 8) {
+        if (eight_columns) {
+            typename Lanes<L>::F table;
+            std::memcpy(&table, row, sizeof table);
+            out = __builtin_shuffle(table, column);
+            return;
+        }
+    }
+#endif
+    (void)eight_columns;
+    for (int l = 0; l < L; ++l) out[l] = row[column[l]];
+}
+
+// Particles [i, i + n), n <= L: motion (apply_voxel_step, lane by lane the same operations), collisions,
+// voxel lookup, voxel changes, interpolation and the sprite.
+template <int L>
+RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i, int n, std::uint32_t* dead,
+                                 std::uint32_t& dead_n) {
+    using Ln = Lanes<L>;
+    using F = typename Ln::F;
+    using I = typename Ln::I;
+    using U = typename Ln::U;
+    const ParticleSpans& P = ctx.particles;
+    const DiffuseAttributeSpans& A = ctx.attributes;
+    const std::size_t columns = diffuse_step_columns(ctx.materials.size());
+    const bool eight = columns == 8;
+
+    F px0, py0, pz0, vx, vy, vz;
+    U old_voxel;
+    Ln::load(px0, &P.x[i], n), Ln::load(py0, &P.y[i], n), Ln::load(pz0, &P.z[i], n);
+    Ln::load(vx, &P.vx[i], n), Ln::load(vy, &P.vy[i], n), Ln::load(vz, &P.vz[i], n);
+    Ln::load(old_voxel, &A.voxel[i], n);
+
+    // The step each lane takes: its voxel's material while that voxel is active, else the outside's.
+    I column;
+    const auto outside = static_cast<std::uint32_t>(ctx.materials.size());
+    for (int l = 0; l < L; ++l) column[l] = int(step_column(ctx, old_voxel[l], outside));
+
+    F ax = (F{} + ctx.accel.x), ay = (F{} + ctx.accel.y), az = (F{} + ctx.accel.z);
+    if (ctx.dissolve.active()) {
+        // Each particle its own place in the front's band and its own gust, so the shape breaks up
+        // rather than sliding away whole.
+        for (int l = 0; l < n; ++l) {
+            const std::uint64_t h = mix64(P.id[i + std::size_t(l)]);
+            const float ragged = float(h >> 40) * (1.0f / 16777216.0f);
+            const float gust = 0.3f + 1.4f * float((h >> 16) & 0xffffffu) * (1.0f / 16777216.0f);
+            if (ctx.dissolve.behind(Vec3f{px0[l], py0[l], pz0[l]} - ctx.offset, ragged)) {
+                const Vec3f a = ctx.accel + ctx.dissolve.wind * gust;
+                ax[l] = a.x, ay[l] = a.y, az[l] = a.z;
+            }
+        }
+    }
+    const F zero = (F{} + 0.0f);
+    const auto get = [&](F& out, int r) {
+        pick<L>(out, ctx.steps.data() + std::size_t(r) * columns, column, eight);
+    };
+    F flag, fx, fy, fz;
+    get(flag, kStepLinear);
+    const I linear = flag > zero;
+    get(flag, kStepOrbit);
+    const I orbit = flag > zero;
+    get(flag, kStepTurn);
+    const I turn = flag > zero;
+    get(fx, kStepVectorX), get(fy, kStepVectorY), get(fz, kStepVectorZ);
+    ax = (linear ? ax + fx : ax), ay = (linear ? ay + fy : ay), az = (linear ? az + fz : az);
+
+    // The centre of the centred forces: the region's, or the particle's voxel's.
+    F cx = zero, cy = zero, cz = zero;
+    get(flag, kStepCentred);
+    const I centred = flag > zero;
+    if (Ln::bits(centred)) {
+        get(flag, kStepAboutRegion);
+        const I about = flag > zero;
+        get(cx, kStepCentreX), get(cy, kStepCentreY), get(cz, kStepCentreZ);
+        cx += ctx.offset.x, cy += ctx.offset.y, cz += ctx.offset.z;
+        for (unsigned b = Ln::bits(centred & ~about); b; b &= b - 1) {
+            const int l = __builtin_ctz(b);
+            const Vec3f c = ctx.grid.voxel_centre(old_voxel[l]) + ctx.offset;
+            cx[l] = c.x, cy[l] = c.y, cz[l] = c.z;
+        }
+    }
+
+    // Constant acceleration integrated exactly, or the orbit's rotation in phase space.
+    F dt, half_dt2;
+    get(dt, kStepDt), get(half_dt2, kStepHalfDt2);
+    F px = px0 + vx * dt + ax * half_dt2, py = py0 + vy * dt + ay * half_dt2,
+      pz = pz0 + vz * dt + az * half_dt2;
+    F nvx = vx + ax * dt, nvy = vy + ay * dt, nvz = vz + az * dt;
+    F cosv, sinv;
+    get(cosv, kStepCos), get(sinv, kStepSin);
+    if (Ln::bits(orbit)) {
+        F inv_w2, sin_over_w, w_sin;
+        get(inv_w2, kStepInvW2), get(sin_over_w, kStepSinOverW), get(w_sin, kStepWSin);
+        const F sx = cx + ax * inv_w2, sy = cy + ay * inv_w2, sz = cz + az * inv_w2;
+        const F dx = px0 - sx, dy = py0 - sy, dz = pz0 - sz;
+        px = (orbit ? sx + dx * cosv + vx * sin_over_w : px);
+        py = (orbit ? sy + dy * cosv + vy * sin_over_w : py);
+        pz = (orbit ? sz + dz * cosv + vz * sin_over_w : pz);
+        nvx = (orbit ? vx * cosv - dx * w_sin : nvx);
+        nvy = (orbit ? vy * cosv - dy * w_sin : nvy);
+        nvz = (orbit ? vz * cosv - dz * w_sin : nvz);
+    }
+    F drag;
+    get(drag, kStepDrag);
+    vx = nvx * drag, vy = nvy * drag, vz = nvz * drag;
+    if (Ln::bits(turn)) {
+        // A velocity field that turns about the axis: the particle is carried along it exactly.
+        F one_minus_cos, decay, shift;
+        get(one_minus_cos, kStepOneMinusCos), get(decay, kStepDecay), get(shift, kStepShift);
+        const F dx = px - cx, dy = py - cy, dz = pz - cz;
+        const F along = dx * fx + dy * fy + dz * fz;
+        const F ex = dx - fx * along, ey = dy - fy * along, ez = dz - fz * along;
+        const F kx = fy * ez - fz * ey, ky = fz * ex - fx * ez, kz = fx * ey - fy * ex;
+        const F proj = (fx * ex + fy * ey + fz * ez) * one_minus_cos;
+        const F tx = (ex * cosv + kx * sinv + fx * proj) * decay,
+                ty = (ey * cosv + ky * sinv + fy * proj) * decay,
+                tz = (ez * cosv + kz * sinv + fz * proj) * decay;
+        const F s = along + shift;
+        px = (turn ? cx + fx * s + tx : px);
+        py = (turn ? cy + fy * s + ty : py);
+        pz = (turn ? cz + fz * s + tz : pz);
+    }
+
+    // Colliders: the lanes whose step's box meets a collider's swept box take the scalar tests.
+    unsigned near = 0;
+    for (const DiffuseColliderStep& c : ctx.colliders) {
+        const I apart = ((px0 > (F{} + c.swept_max.x)) & (px > (F{} + c.swept_max.x))) |
+                        ((px0 < (F{} + c.swept_min.x)) & (px < (F{} + c.swept_min.x))) |
+                        ((py0 > (F{} + c.swept_max.y)) & (py > (F{} + c.swept_max.y))) |
+                        ((py0 < (F{} + c.swept_min.y)) & (py < (F{} + c.swept_min.y))) |
+                        ((pz0 > (F{} + c.swept_max.z)) & (pz > (F{} + c.swept_max.z))) |
+                        ((pz0 < (F{} + c.swept_min.z)) & (pz < (F{} + c.swept_min.z)));
+        near |= Ln::bits(~apart);
+    }
+    for (unsigned b = near & ((1u << n) - 1u); b; b &= b - 1) {
+        const int l = __builtin_ctz(b);
+        Vec3f p{px[l], py[l], pz[l]}, v{vx[l], vy[l], vz[l]};
+        collide_all(ctx, Vec3f{px0[l], py0[l], pz0[l]}, p, v);
+        px[l] = p.x, py[l] = p.y, pz[l] = p.z, vx[l] = v.x, vy[l] = v.y, vz[l] = v.z;
+    }
+    Ln::store(&P.x[i], px, n), Ln::store(&P.y[i], py, n), Ln::store(&P.z[i], pz, n);
+    Ln::store(&P.vx[i], vx, n), Ln::store(&P.vy[i], vy, n), Ln::store(&P.vz[i], vz, n);
+
+    // The voxel each lane is in now (DiffuseGrid::voxel_of, lane by lane).
+    const DiffuseGrid& g = ctx.grid;
+    const float inv = 1 / g.cell;
+    const F gx = ((px - ctx.offset.x) - g.origin.x) * inv, gy = ((py - ctx.offset.y) - g.origin.y) * inv,
+            gz = ((pz - ctx.offset.z) - g.origin.z) * inv;
+    const I inside = (gx >= zero) & (gy >= zero) & (gz >= zero) & (gx < (F{} + float(g.nx))) &
+                     (gy < (F{} + float(g.ny))) & (gz < (F{} + float(g.nz)));
+    const U cell_index =
+        (U(__builtin_convertvector(gz, I)) * std::uint32_t(g.ny) + U(__builtin_convertvector(gy, I))) *
+            std::uint32_t(g.nx) +
+        U(__builtin_convertvector(gx, I));
+    U voxel = inside ? cell_index : U{} + kOutsideVoxel;
+    for (int l = 0; l < n; ++l)
+        if (step_column(ctx, voxel[l], outside) == outside) voxel[l] = kOutsideVoxel;
+    for (unsigned b = Ln::bits(I(voxel != old_voxel)) & ((1u << n) - 1u); b; b &= b - 1) {
+        const int l = __builtin_ctz(b);
+        change_voxel(ctx, i + std::size_t(l), old_voxel[l], voxel[l]);
+    }
+
+    // Interpolation towards the voxel's colour and size; a settled particle (done, not fading) keeps its
+    // own, and its clock need not run.
+    typename Ln::B fading_bytes;
+    Ln::load(fading_bytes, &A.fading[i], n);
+    const I fading = __builtin_convertvector(fading_bytes, I) != I{};
+    F elapsed, duration, from_size, to_size;
+    U from_rgba, to_rgba;
+    Ln::load(elapsed, &A.elapsed[i], n), Ln::load(duration, &A.duration[i], n);
+    Ln::load(from_size, &A.from_size[i], n), Ln::load(to_size, &A.to_size[i], n);
+    Ln::load(from_rgba, &A.from_rgba[i], n), Ln::load(to_rgba, &A.to_rgba[i], n);
+    const I moving = fading | (elapsed < duration);
+    const F later = elapsed + ctx.dt;
+    const F q = later / duration;
+    const F one = (F{} + 1.0f);
+    const F t = duration > zero ? (q < one ? q : one) : one;
+    const F size = (moving ? from_size + (to_size - from_size) * t : to_size);
+    const I w = __builtin_convertvector(t * 256.0f + 0.5f, I);
+    U rgba = U{};
+    for (int s = 0; s < 32; s += 8) {
+        const I ca = I((from_rgba >> s) & 0xffu), cb = I((to_rgba >> s) & 0xffu);
+        rgba |= U(ca + (((cb - ca) * w + 128) >> 8)) << s;
+    }
+    rgba = moving ? rgba : to_rgba;
+    const F now = (moving ? later : elapsed);
+    Ln::store(&A.elapsed[i], now, n);
+    if (n == L)
+        Ln::store_sprites(&A.sprite[i], px, py, pz, size, rgba);
+    else
+        for (int l = 0; l < n; ++l) A.sprite[i + std::size_t(l)] = {px[l], py[l], pz[l], size[l], rgba[l]};
+    for (unsigned b = Ln::bits(fading & (now >= duration)) & ((1u << n) - 1u); b; b &= b - 1)
+        dead[dead_n++] = static_cast<std::uint32_t>(i + std::size_t(__builtin_ctz(b)));
+}
+
+template <int L>
+RIVULET_INLINE std::uint32_t update_range(const DiffuseUpdateContext& ctx, std::size_t begin, std::size_t end,
+                                          std::uint32_t* dead) {
+    std::uint32_t dead_n = 0;
+    std::size_t i = begin;
+    for (; i + L <= end; i += L) update_lanes<L>(ctx, i, L, dead, dead_n);
+    if (i < end) update_lanes<L>(ctx, i, int(end - i), dead, dead_n);
+    return dead_n;
+}
+
+RIVULET_AVX2 std::uint32_t update_range_avx2(const DiffuseUpdateContext& ctx, std::size_t begin,
+                                             std::size_t end, std::uint32_t* dead) {
+    return update_range<8>(ctx, begin, end, dead);
+}
+
 }  // namespace
 
 void diffuse_update_block(std::size_t block, const DiffuseUpdateContext& ctx) {
-    const ParticleSpans& P = ctx.particles;
-    const DiffuseAttributeSpans& A = ctx.attributes;
     const std::size_t begin = block * ctx.block_size;
-    const std::size_t end = std::min(P.size(), begin + ctx.block_size);
+    const std::size_t end = std::min(ctx.particles.size(), begin + ctx.block_size);
     std::uint32_t* dead = ctx.dead.data() + block * ctx.block_size;
-    std::uint32_t dead_n = 0;
-    // An active voxel: inside the mesh and not overlapped by a collider this step.
-    const auto active = [&](std::uint32_t v) {
-        return v != kOutsideVoxel && ctx.material[v] != kNoMaterial && ctx.blocked[v] == 0;
-    };
-    for (std::size_t i = begin; i < end; ++i) {
-        Vec3f p{P.x[i], P.y[i], P.z[i]}, v{P.vx[i], P.vy[i], P.vz[i]};
-        const Vec3f p0 = p;
-        const std::uint32_t old_voxel = A.voxel[i];
-        Vec3f accel = ctx.accel;
-        if (ctx.dissolve.active()) {
-            // Each particle its own place in the front's band and its own gust, so the shape breaks up
-            // rather than sliding away whole.
-            const std::uint64_t h = mix64(P.id[i]);
-            const float ragged = float(h >> 40) * (1.0f / 16777216.0f);
-            const float gust = 0.3f + 1.4f * float((h >> 16) & 0xffffffu) * (1.0f / 16777216.0f);
-            if (ctx.dissolve.behind(p - ctx.offset, ragged)) accel = accel + ctx.dissolve.wind * gust;
-        }
-        if (active(old_voxel)) {
-            const VoxelMaterial& m = ctx.materials[ctx.material[old_voxel]];
-            const bool centred = m.force.kind >= 2;  // spiral, orbit, helix
-            const Vec3f centre =
-                centred ? (m.about_region ? m.region_centre : ctx.grid.voxel_centre(old_voxel)) + ctx.offset
-                        : Vec3f{};
-            apply_voxel_step(m.step, centre, accel, p, v);
-        } else {
-            apply_voxel_step(ctx.outside, {}, accel, p, v);
-        }
-        // A moving solid may push a particle into another one, so the tests repeat while they bounce;
-        // still solids come last in each round and so always have the final word.
-        for (int round = 0; round < kCollisionRounds; ++round) {
-            bool hit = false;
-            for (int still = 0; still < 2; ++still)
-                for (const DiffuseColliderStep& c : ctx.colliders)
-                    if ((c.offset0 == c.offset1) == (still == 1))
-                        hit |= collide_one(c, ctx.dt, ctx.restitution, p0, p, v);
-            if (!hit) break;
-        }
-        P.x[i] = p.x, P.y[i] = p.y, P.z[i] = p.z;
-        P.vx[i] = v.x, P.vy[i] = v.y, P.vz[i] = v.z;
-
-        std::uint32_t voxel = ctx.grid.voxel_of(p - ctx.offset);
-        if (!active(voxel)) voxel = kOutsideVoxel;
-        const float t0 = A.duration[i] > 0 ? std::min(1.0f, A.elapsed[i] / A.duration[i]) : 1.0f;
-        if (voxel != old_voxel) {
-            if (old_voxel != kOutsideVoxel) add_density(ctx.density, old_voxel, ~0u);
-            const std::uint32_t now_rgba = lerp_rgba(A.from_rgba[i], A.to_rgba[i], t0);
-            const float now_size = A.from_size[i] + (A.to_size[i] - A.from_size[i]) * t0;
-            if (voxel != kOutsideVoxel) {
-                // Entering a voxel (re-entering included: the fade stops, life goes on).
-                add_density(ctx.density, voxel, 1);
-                const VoxelMaterial& m = ctx.materials[ctx.material[voxel]];
-                A.from_rgba[i] = now_rgba, A.to_rgba[i] = ctx.voxel_rgba[voxel];
-                A.from_size[i] = now_size, A.to_size[i] = m.size;
-                A.elapsed[i] = 0, A.duration[i] = m.interpolation_time;
-                A.fading[i] = 0;
-            } else if (!A.fading[i]) {
-                // Leaving the active voxels: fade by the last voxel's fading attributes (§4.3).
-                const std::uint16_t mi = old_voxel != kOutsideVoxel ? ctx.material[old_voxel] : kNoMaterial;
-                const VoxelMaterial& m = ctx.materials[mi == kNoMaterial ? 0 : mi];
-                A.from_rgba[i] = now_rgba;
-                A.to_rgba[i] =
-                    m.fade_color_set ? m.fade_rgba : (now_rgba & 0x00ffffffu) | (m.fade_rgba & 0xff000000u);
-                A.from_size[i] = now_size, A.to_size[i] = m.fade_size;
-                A.elapsed[i] = 0, A.duration[i] = m.lifetime;
-                A.fading[i] = 1;
-            }
-            A.voxel[i] = voxel;
-        }
-        // A settled particle (interpolation done, not fading) keeps its colour and size: no lerp, and
-        // its clock need not run, so its attributes are only read.
-        const float elapsed = A.elapsed[i];
-        if (A.fading[i] || elapsed < A.duration[i]) {
-            A.elapsed[i] = elapsed + ctx.dt;
-            const float t = A.duration[i] > 0 ? std::min(1.0f, A.elapsed[i] / A.duration[i]) : 1.0f;
-            A.sprite[i] = {p.x, p.y, p.z, A.from_size[i] + (A.to_size[i] - A.from_size[i]) * t,
-                           lerp_rgba(A.from_rgba[i], A.to_rgba[i], t)};
-        } else {
-            A.sprite[i] = {p.x, p.y, p.z, A.to_size[i], A.to_rgba[i]};
-        }
-        if (A.fading[i] && A.elapsed[i] >= A.duration[i]) dead[dead_n++] = static_cast<std::uint32_t>(i);
-    }
-    ctx.dead_count[block] = dead_n;
+    ctx.dead_count[block] =
+        cpu_has_avx2() ? update_range_avx2(ctx, begin, end, dead) : update_range<4>(ctx, begin, end, dead);
 }
 
 }  // namespace rivulet

@@ -3,12 +3,16 @@
 // systems inside voxelized surface geometry", §4.3, §5): each particle moves by the force of the voxel it
 // is in, bounces off the colliders it crosses, looks up its new voxel, and on entering one starts
 // interpolating towards that voxel's colour and size; outside the active voxels it fades by its last
-// voxel's fading attributes and dies when faded. A kernel is (block, context).
+// voxel's fading attributes and dies when faded. A kernel is (block, context); it runs eight particles
+// to a vector (four without AVX2), the motion and the lookups in lanes, and falls back to one particle
+// at a time only where a lane meets a collider's box or changes voxel. Either build gives the bits of
+// apply_voxel_step and of the other build.
 #include <cstddef>
 #include <cstdint>
 #include <span>
 
 #include "jobs/diffuse_particles.h"
+#include "jobs/diffuse_step_table.h"
 #include "jobs/particle_spans.h"
 
 namespace rivulet {
@@ -35,7 +39,8 @@ struct DiffuseUpdateContext {
     std::span<const DiffuseColliderStep> colliders;
     Vec3f accel;  // the scene's gravity or wind, everywhere
     DissolveFront dissolve;
-    VoxelStep outside;  // no force, no drag: the step of particles outside the active voxels
+    // make_diffuse_step_table(materials, the step outside the active voxels: no force, no drag)
+    std::span<const float> steps;
     float restitution = 0.3f;
     float dt = 1.0f / 60.0f;
     std::size_t block_size = 16384;

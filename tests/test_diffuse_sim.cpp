@@ -91,6 +91,7 @@ struct TwoVoxels {
     std::vector<std::uint8_t> blocked{0, 0};
     std::vector<std::uint32_t> density{1, 0};
     std::vector<VoxelMaterial> materials{1};
+    std::vector<float> steps;
 
     explicit TwoVoxels(float x0, float vx0) {
         x = {x0}, y = {0.5f}, z = {0.5f}, vx = {vx0}, vy = {0}, vz = {0}, id = {0};
@@ -108,7 +109,8 @@ struct TwoVoxels {
         c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
         c.blocked = blocked, c.density = density;
         c.dt = kDt, c.block_size = 1, c.dead = dead, c.dead_count = dead_count;
-        c.outside = make_voxel_step({}, 0, kDt);
+        steps = make_diffuse_step_table(materials, make_voxel_step({}, 0, kDt));
+        c.steps = steps;
         return c;
     }
     int step() {
@@ -149,6 +151,79 @@ TEST(DiffuseUpdate, ReenteringStopsTheFadeAndResetsTheLifetime) {
     t.vx[0] = 0;
     for (int i = 0; i < 300; ++i) ASSERT_EQ(t.step(), 0) << "alive inside an active voxel, step " << i;
     EXPECT_EQ(t.sprite[0].rgba, 0x80ffffffu);
+}
+
+// Six voxels in a row: materials of every force kind (none, linear, spiral, orbit, helix; some about
+// their region's centre, some about the voxel's) and one voxel outside the mesh. 37 particles fill whole
+// vectors and a partial one; every particle must move exactly as apply_voxel_step moves it alone.
+TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
+    constexpr std::size_t kParticles = 37;
+    std::vector<VoxelMaterial> materials(5);
+    for (std::uint8_t k = 0; k < 5; ++k) {
+        VoxelMaterial& m = materials[k];
+        m.force.kind = k;
+        m.force.vector = k == 1 ? Vec3f{0.5f, -2.0f, 0.25f} : normalize(Vec3f{0.2f, 1.0f, 0.1f * k});
+        m.force.rate = 1.5f + 0.5f * k;
+        m.force.pull = 0.1f * k;
+        m.about_region = k == 2;
+        m.region_centre = {2.4f, 0.3f, 0.6f};
+        m.drag = 0.5f * k;
+        m.step = make_voxel_step(m.force, m.drag, kDt);
+    }
+    const std::vector<std::uint16_t> material{0, 1, 2, 3, 4, kNoMaterial};
+    const std::vector<std::uint32_t> voxel_rgba(6, 0xff808080u);
+    const std::vector<std::uint8_t> blocked(6, 0);
+    std::vector<std::uint32_t> density(6, 100);
+    std::vector<float> x, y, z, vx, vy, vz, from_size, to_size, elapsed, duration;
+    std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead(64), dead_count(1);
+    std::vector<std::uint8_t> fading;
+    for (std::size_t i = 0; i < kParticles; ++i) {
+        const float u = float(i % 7) / 7.0f, w = float(i % 5) / 5.0f;
+        const std::uint32_t cell = std::uint32_t(i % 6);
+        x.push_back(float(cell) + 0.1f + 0.8f * u), y.push_back(0.2f + 0.6f * w),
+            z.push_back(0.5f + 0.3f * u - 0.2f * w);
+        vx.push_back(0.3f * w - 0.1f), vy.push_back(0.2f * u), vz.push_back(-0.15f * u * w);
+        id.push_back(std::uint32_t(i)), voxel.push_back(cell == 5 ? kOutsideVoxel : cell);
+        from_rgba.push_back(0xff808080u), to_rgba.push_back(0xff808080u);
+        from_size.push_back(0.05f), to_size.push_back(0.05f), elapsed.push_back(1), duration.push_back(0.1f);
+        fading.push_back(cell == 5);
+    }
+    std::vector<DiffuseSprite> sprite(kParticles);
+    const Vec3f accel{0.0f, -0.8f, 0.1f}, offset{0.01f, -0.02f, 0.0f};
+    const VoxelStep outside = make_voxel_step({}, 0, kDt);
+    const std::vector<float> steps = make_diffuse_step_table(materials, outside);
+    DiffuseUpdateContext c;
+    c.grid = {{0, 0, 0}, 1, 6, 1, 1};
+    c.offset = offset;
+    c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
+    c.blocked = blocked, c.density = density, c.steps = steps;
+    c.accel = accel, c.dt = kDt, c.block_size = 64, c.dead = dead, c.dead_count = dead_count;
+    const std::vector<float> x0 = x, y0 = y, z0 = z, vx0 = vx, vy0 = vy, vz0 = vz;
+    c.particles = {x, y, z, vx, vy, vz, id};
+    c.attributes = {voxel, from_rgba, to_rgba, from_size, to_size, elapsed, duration, fading, sprite};
+    diffuse_update_block(0, c);
+    for (std::size_t i = 0; i < kParticles; ++i) {
+        const std::uint32_t cell = std::uint32_t(i % 6);
+        Vec3f p{x0[i], y0[i], z0[i]}, v{vx0[i], vy0[i], vz0[i]};
+        if (cell == 5) {
+            apply_voxel_step(outside, {}, accel, p, v);
+        } else {
+            const VoxelMaterial& m = materials[cell];
+            const Vec3f centre = m.force.kind < 2 ? Vec3f{}
+                                 : m.about_region ? m.region_centre + offset
+                                                  : c.grid.voxel_centre(cell) + offset;
+            apply_voxel_step(m.step, centre, accel, p, v);
+        }
+        // Bit for bit: the lanes do the scalar step's operations in its order.
+        EXPECT_EQ(x[i], p.x) << "particle " << i << ", voxel " << cell;
+        EXPECT_EQ(y[i], p.y) << "particle " << i;
+        EXPECT_EQ(z[i], p.z) << "particle " << i;
+        EXPECT_EQ(vx[i], v.x) << "particle " << i;
+        EXPECT_EQ(vy[i], v.y) << "particle " << i;
+        EXPECT_EQ(vz[i], v.z) << "particle " << i;
+        EXPECT_EQ(sprite[i].x, p.x) << "particle " << i;
+        EXPECT_EQ(voxel[i], c.grid.voxel_of(p - offset) < 5 ? c.grid.voxel_of(p - offset) : kOutsideVoxel);
+    }
 }
 
 TEST(DiffuseUpdate, DeadAreFilledFromTheEndInAFixedOrder) {

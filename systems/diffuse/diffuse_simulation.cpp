@@ -35,7 +35,7 @@ Vec3f diffuse_collider_position(const DiffuseCollider& c, double t) {
 DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& particles) : scene_(scene) {
     const DiffuseDesc& d = scene_.diffuse;
     object_ = build_voxel_object(d, load_diffuse_mesh(d.mesh, d.scale, d.position), scene_.dt);
-    outside_step_ = make_voxel_step(VoxelForce{}, 0, scene_.dt);
+    step_table_ = make_diffuse_step_table(object_.materials, make_voxel_step(VoxelForce{}, 0, scene_.dt));
     grid_ = {object_.shape.origin, object_.shape.cell, object_.shape.nx, object_.shape.ny, object_.shape.nz};
     density_.assign(object_.shape.count(), 0);
     blocked_.assign(object_.shape.count(), 0);
@@ -151,7 +151,7 @@ DiffuseUpdateContext DiffuseSimulation::update_context(ParticleSet& particles) {
     ctx.colliders = steps_;
     ctx.accel = scene_.gravity;
     ctx.dissolve = dissolve_;
-    ctx.outside = outside_step_;
+    ctx.steps = step_table_;
     ctx.restitution = scene_.restitution;
     ctx.dt = scene_.dt;
     ctx.block_size = kUpdateBlock;

@@ -82,7 +82,7 @@ class DiffuseSimulation {
     SceneDesc scene_;
     VoxelObject object_;
     DiffuseGrid grid_;
-    VoxelStep outside_step_;  // no force, no drag: particles outside the active voxels
+    std::vector<float> step_table_;  // the materials' steps and, last, the outside's: no force, no drag
     std::vector<std::uint32_t> density_;
     std::vector<std::uint8_t> blocked_;
     std::vector<std::unique_ptr<ColliderMesh>> colliders_;
