@@ -24,7 +24,7 @@ std::uint32_t step_column(const DiffuseUpdateContext& ctx, std::uint32_t v, std:
     const bool in_grid = v < ctx.material.size();
     const std::uint32_t at = in_grid ? v : 0;
     const std::uint32_t m = ctx.material[at];
-    return in_grid & (m != kNoMaterial) & (ctx.blocked[at] == 0) ? m : outside;
+    return (in_grid & (m != kNoMaterial) & (ctx.blocked[at] == 0)) ? m : outside;
 }
 
 // The step p0 -> p against one collider, in the collider's frame, so a moving collider pushes the
