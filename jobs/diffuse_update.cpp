@@ -1,7 +1,6 @@
 #include "jobs/diffuse_update.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cstring>
 
 #include "jobs/counter_rng.h"
@@ -10,11 +9,6 @@
 
 namespace rivulet {
 namespace {
-
-void add_density(std::span<std::uint32_t> density, std::uint32_t voxel, std::uint32_t delta) {
-    // Integer adds commute, so the counts end the same whatever order the threads run in.
-    std::atomic_ref<std::uint32_t>(density[voxel]).fetch_add(delta, std::memory_order_relaxed);
-}
 
 constexpr int kCollisionRounds = 3;
 
@@ -56,18 +50,17 @@ void collide_all(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p, Vec3f& v) 
     }
 }
 
-// Particle i moved from old_voxel to voxel (kOutsideVoxel: no active voxel): its density counts and the
-// attributes it now interpolates towards.
+// Particle i moved from old_voxel to voxel (kOutsideVoxel: no active voxel): the attributes it now
+// interpolates towards; the move is listed for the density.
 void change_voxel(const DiffuseUpdateContext& ctx, std::size_t i, std::uint32_t old_voxel,
-                  std::uint32_t voxel) {
+                  std::uint32_t voxel, std::uint32_t* move) {
+    move[0] = old_voxel, move[1] = voxel;
     const DiffuseAttributeSpans& A = ctx.attributes;
     const float t0 = A.duration[i] > 0 ? std::min(1.0f, A.elapsed[i] / A.duration[i]) : 1.0f;
-    if (old_voxel != kOutsideVoxel) add_density(ctx.density, old_voxel, ~0u);
     const std::uint32_t now_rgba = lerp_rgba(A.from_rgba[i], A.to_rgba[i], t0);
     const float now_size = A.from_size[i] + (A.to_size[i] - A.from_size[i]) * t0;
     if (voxel != kOutsideVoxel) {
         // Entering a voxel (re-entering included: the fade stops, life goes on).
-        add_density(ctx.density, voxel, 1);
         const VoxelMaterial& m = ctx.materials[ctx.material[voxel]];
         A.from_rgba[i] = now_rgba, A.to_rgba[i] = ctx.voxel_rgba[voxel];
         A.from_size[i] = now_size, A.to_size[i] = m.size;
@@ -86,6 +79,14 @@ void change_voxel(const DiffuseUpdateContext& ctx, std::size_t i, std::uint32_t 
     }
     A.voxel[i] = voxel;
 }
+
+// What a block lists as it goes: its dead, ascending, and its particles' voxel changes.
+struct BlockLists {
+    std::uint32_t* dead;
+    std::uint32_t dead_n;
+    std::uint32_t* moves;
+    std::uint32_t move_n;
+};
 
 // L particles as vectors: F floats, I signed and U unsigned 32-bit lanes.
 template <int L>
@@ -171,8 +172,7 @@ RIVULET_INLINE void pick(typename Lanes<L>::F& out, const float* row, typename L
 // Particles [i, i + n), n <= L: motion (apply_voxel_step, lane by lane the same operations), collisions,
 // voxel lookup, voxel changes, interpolation and the sprite.
 template <int L>
-RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i, int n, std::uint32_t* dead,
-                                 std::uint32_t& dead_n) {
+RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i, int n, BlockLists& lists) {
     using Ln = Lanes<L>;
     using F = typename Ln::F;
     using I = typename Ln::I;
@@ -314,7 +314,7 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
         if (step_column(ctx, voxel[l], outside) == outside) voxel[l] = kOutsideVoxel;
     for (unsigned b = Ln::bits(I(voxel != old_voxel)) & ((1u << n) - 1u); b; b &= b - 1) {
         const int l = __builtin_ctz(b);
-        change_voxel(ctx, i + std::size_t(l), old_voxel[l], voxel[l]);
+        change_voxel(ctx, i + std::size_t(l), old_voxel[l], voxel[l], lists.moves + 2 * lists.move_n++);
     }
 
     // Interpolation towards the voxel's colour and size; a settled particle (done, not fading) keeps its
@@ -347,22 +347,20 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
     else
         for (int l = 0; l < n; ++l) A.sprite[i + std::size_t(l)] = {px[l], py[l], pz[l], size[l], rgba[l]};
     for (unsigned b = Ln::bits(fading & (now >= duration)) & ((1u << n) - 1u); b; b &= b - 1)
-        dead[dead_n++] = static_cast<std::uint32_t>(i + std::size_t(__builtin_ctz(b)));
+        lists.dead[lists.dead_n++] = static_cast<std::uint32_t>(i + std::size_t(__builtin_ctz(b)));
 }
 
 template <int L>
-RIVULET_INLINE std::uint32_t update_range(const DiffuseUpdateContext& ctx, std::size_t begin, std::size_t end,
-                                          std::uint32_t* dead) {
-    std::uint32_t dead_n = 0;
+RIVULET_INLINE void update_range(const DiffuseUpdateContext& ctx, std::size_t begin, std::size_t end,
+                                 BlockLists& lists) {
     std::size_t i = begin;
-    for (; i + L <= end; i += L) update_lanes<L>(ctx, i, L, dead, dead_n);
-    if (i < end) update_lanes<L>(ctx, i, int(end - i), dead, dead_n);
-    return dead_n;
+    for (; i + L <= end; i += L) update_lanes<L>(ctx, i, L, lists);
+    if (i < end) update_lanes<L>(ctx, i, int(end - i), lists);
 }
 
-RIVULET_AVX2 std::uint32_t update_range_avx2(const DiffuseUpdateContext& ctx, std::size_t begin,
-                                             std::size_t end, std::uint32_t* dead) {
-    return update_range<8>(ctx, begin, end, dead);
+RIVULET_AVX2 void update_range_avx2(const DiffuseUpdateContext& ctx, std::size_t begin, std::size_t end,
+                                    BlockLists& lists) {
+    update_range<8>(ctx, begin, end, lists);
 }
 
 }  // namespace
@@ -370,9 +368,25 @@ RIVULET_AVX2 std::uint32_t update_range_avx2(const DiffuseUpdateContext& ctx, st
 void diffuse_update_block(std::size_t block, const DiffuseUpdateContext& ctx) {
     const std::size_t begin = block * ctx.block_size;
     const std::size_t end = std::min(ctx.particles.size(), begin + ctx.block_size);
-    std::uint32_t* dead = ctx.dead.data() + block * ctx.block_size;
-    ctx.dead_count[block] =
-        cpu_has_avx2() ? update_range_avx2(ctx, begin, end, dead) : update_range<4>(ctx, begin, end, dead);
+    BlockLists lists{ctx.dead.data() + block * ctx.block_size, 0,
+                     ctx.moves.data() + 2 * block * ctx.block_size, 0};
+    if (cpu_has_avx2())
+        update_range_avx2(ctx, begin, end, lists);
+    else
+        update_range<4>(ctx, begin, end, lists);
+    ctx.dead_count[block] = lists.dead_n;
+    ctx.move_count[block] = lists.move_n;
+}
+
+void diffuse_apply_moves(const DiffuseUpdateContext& ctx, std::size_t blocks) {
+    std::uint32_t* density = ctx.density.data();
+    for (std::size_t b = 0; b < blocks; ++b) {
+        const std::uint32_t* m = ctx.moves.data() + 2 * b * ctx.block_size;
+        for (std::uint32_t k = 0; k < ctx.move_count[b]; ++k) {
+            if (m[2 * k] != kOutsideVoxel) --density[m[2 * k]];
+            if (m[2 * k + 1] != kOutsideVoxel) ++density[m[2 * k + 1]];
+        }
+    }
 }
 
 }  // namespace rivulet

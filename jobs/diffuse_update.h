@@ -35,7 +35,7 @@ struct DiffuseUpdateContext {
     std::span<const std::uint32_t> voxel_rgba;
     std::span<const VoxelMaterial> materials;
     std::span<const std::uint8_t> blocked;  // per voxel: non-zero while a collider overlaps it
-    std::span<std::uint32_t> density;       // per voxel, updated with atomic adds
+    std::span<std::uint32_t> density;       // per voxel; diffuse_apply_moves brings it up to date
     std::span<const DiffuseColliderStep> colliders;
     Vec3f accel;  // the scene's gravity or wind, everywhere
     DissolveFront dissolve;
@@ -47,6 +47,11 @@ struct DiffuseUpdateContext {
     // Each block lists its particles that died this step, ascending: dead[b * block_size + k].
     std::span<std::uint32_t> dead;
     std::span<std::uint32_t> dead_count;  // per block
+    // Each block lists the voxel changes of its particles, (from, to) pairs with kOutsideVoxel for no
+    // active voxel: moves[2 * (b * block_size + k)]. The counts are applied after the update, not with
+    // atomic adds during it: a count's cache line would travel between the cores on every change.
+    std::span<std::uint32_t> moves;
+    std::span<std::uint32_t> move_count;  // per block
 };
 
 inline std::size_t diffuse_update_blocks(std::size_t particles, std::size_t block_size) {
@@ -54,6 +59,10 @@ inline std::size_t diffuse_update_blocks(std::size_t particles, std::size_t bloc
 }
 
 void diffuse_update_block(std::size_t block, const DiffuseUpdateContext& ctx);
+
+// After every block's update: each block's moves applied to the density, in block order (integer adds,
+// so the counts are the same whatever order the blocks ran in).
+void diffuse_apply_moves(const DiffuseUpdateContext& ctx, std::size_t blocks);
 
 // Fills the holes the dead leave with live particles from the end, in a fixed order (O(dead)); returns
 // the new count. `move(from, to)` copies every array of particle `from` to `to`.

@@ -82,7 +82,7 @@ TEST(DiffuseForces, SpiralTurnsAndDrawsInAndHelixTurnsAndRises) {
 // A one-row grid: voxel 0 active, voxel 1 outside the mesh; particles cross between them.
 struct TwoVoxels {
     std::vector<float> x, y, z, vx, vy, vz;
-    std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead, dead_count{0};
+    std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead, dead_count{0}, moves{0, 0}, move_count{0};
     std::vector<float> from_size, to_size, elapsed, duration;
     std::vector<DiffuseSprite> sprite{1};
     std::vector<std::uint8_t> fading;
@@ -109,12 +109,15 @@ struct TwoVoxels {
         c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
         c.blocked = blocked, c.density = density;
         c.dt = kDt, c.block_size = 1, c.dead = dead, c.dead_count = dead_count;
+        c.moves = moves, c.move_count = move_count;
         steps = make_diffuse_step_table(materials, make_voxel_step({}, 0, kDt));
         c.steps = steps;
         return c;
     }
     int step() {
-        diffuse_update_block(0, context());
+        const DiffuseUpdateContext c = context();
+        diffuse_update_block(0, c);
+        diffuse_apply_moves(c, 1);
         return int(dead_count[0]);
     }
 };
@@ -175,7 +178,8 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
     const std::vector<std::uint8_t> blocked(6, 0);
     std::vector<std::uint32_t> density(6, 100);
     std::vector<float> x, y, z, vx, vy, vz, from_size, to_size, elapsed, duration;
-    std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead(64), dead_count(1);
+    std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead(64), dead_count(1), moves(128),
+        move_count(1);
     std::vector<std::uint8_t> fading;
     for (std::size_t i = 0; i < kParticles; ++i) {
         const float u = float(i % 7) / 7.0f, w = float(i % 5) / 5.0f;
@@ -198,6 +202,7 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
     c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
     c.blocked = blocked, c.density = density, c.steps = steps;
     c.accel = accel, c.dt = kDt, c.block_size = 64, c.dead = dead, c.dead_count = dead_count;
+    c.moves = moves, c.move_count = move_count;
     const std::vector<float> x0 = x, y0 = y, z0 = z, vx0 = vx, vy0 = vy, vz0 = vz;
     c.particles = {x, y, z, vx, vy, vz, id};
     c.attributes = {voxel, from_rgba, to_rgba, from_size, to_size, elapsed, duration, fading, sprite};

@@ -51,6 +51,8 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
     const std::size_t blocks = diffuse_update_blocks(cap, kUpdateBlock);
     dead_.assign(blocks * kUpdateBlock, 0);
     dead_count_.assign(blocks, 0);
+    moves_.assign(2 * blocks * kUpdateBlock, 0);
+    move_count_.assign(blocks, 0);
     dead_all_.reserve(cap);
     emit_counts_.assign(diffuse_emit_blocks(object_.inside.size(), kEmitBlock), 0);
     emit_offsets_.assign(emit_counts_.size(), 0);
@@ -157,6 +159,8 @@ DiffuseUpdateContext DiffuseSimulation::update_context(ParticleSet& particles) {
     ctx.block_size = kUpdateBlock;
     ctx.dead = dead_;
     ctx.dead_count = dead_count_;
+    ctx.moves = moves_;
+    ctx.move_count = move_count_;
     return ctx;
 }
 
@@ -196,6 +200,7 @@ void DiffuseSimulation::update_block(std::size_t block, ParticleSet& particles) 
 }
 
 void DiffuseSimulation::compact(ParticleSet& particles) {
+    diffuse_apply_moves(update_context(particles), update_blocks(particles));
     dead_all_.clear();
     for (std::size_t b = 0; b < update_blocks(particles); ++b)
         dead_all_.insert(dead_all_.end(), dead_.begin() + std::ptrdiff_t(b * kUpdateBlock),

@@ -4,7 +4,7 @@
 // ParticleSet, the density per voxel and the colliders. Each frame runs begin_frame (serial: where the
 // object and colliders are, which voxels colliders block), then the phases of kPhases in order:
 //   update        parallel over update blocks: ages, forces, moves; the dead marked
-//   compact       serial: the dead's places filled from the end
+//   compact       serial: the voxel changes counted, the dead's places filled from the end
 //   emit_count    parallel over emit blocks: how many each emitting voxel adds
 //   emit_offsets  serial: where each block's new particles go
 //   emit          parallel over emit blocks: the new particles
@@ -93,6 +93,7 @@ class DiffuseSimulation {
     AlignedArray<DiffuseSprite> sprite_;
     AlignedArray<std::uint8_t> fading_;
     std::vector<std::uint32_t> dead_, dead_count_, dead_all_;
+    std::vector<std::uint32_t> moves_, move_count_;  // voxel changes per update block
     std::vector<std::uint32_t> emit_counts_, emit_offsets_;
     std::size_t emit_first_ = 0;
     std::uint32_t next_id_ = 0;
