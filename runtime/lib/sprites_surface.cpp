@@ -12,6 +12,8 @@ namespace {
 // Far enough around the object's grid for the particles that drift out of it while they fade; beyond
 // it depths clamp (still drawn, in a tie).
 constexpr float kDepthMargin = 2.0f;
+// Sprites the staging gather asks for before it reads them.
+constexpr std::size_t kGatherAhead = 32;
 
 }  // namespace
 
@@ -75,7 +77,19 @@ FrameGraph::JobId SpritesSurface::add_jobs(FrameGraph& graph, std::function<Cons
             const ParticleRange r = ParticleChunks{kChunk}.range(c, frame_.size());
             DiffuseSprite* out = s.sprites.data();
             const std::uint32_t* order = order_.data();
-            for (std::size_t k = r.begin; k < r.end(); ++k) out[k] = frame_[sorted ? order[k] : k];
+            if (!sorted) {
+                std::copy(frame_.begin() + std::ptrdiff_t(r.begin), frame_.begin() + std::ptrdiff_t(r.end()),
+                          out + r.begin);
+                return;
+            }
+            // Random reads: asked for well ahead, so many misses are in flight at once.
+            const DiffuseSprite* in = frame_.data();
+            const std::size_t ahead = std::min(r.end(), r.begin + kGatherAhead);
+            for (std::size_t k = r.begin; k < ahead; ++k) __builtin_prefetch(in + order[k]);
+            for (std::size_t k = r.begin; k < r.end(); ++k) {
+                if (k + kGatherAhead < r.end()) __builtin_prefetch(in + order[k + kGatherAhead]);
+                out[k] = in[order[k]];
+            }
         },
         {last});
 }

@@ -1,6 +1,6 @@
 #pragma once
 // A diffuse object's particles as the frame pipeline's output (Juckel & Beckhaus, §4.4): the workers sort
-// them back to front by view depth with a parallel radix sort (sprites.keys, then per 11-bit pass
+// them back to front by view depth with a parallel radix sort (sprites.keys, then per 8-bit pass
 // sprites.histogram / sprites.prefix / sprites.scatter) and gather them in that order into the slot
 // (sprites.stage); the render thread uploads and draws the slot as point sprites. Additive scenes (fire)
 // need no order and skip the sort.
