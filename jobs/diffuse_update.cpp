@@ -189,9 +189,15 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
     Ln::load(old_voxel, &A.voxel[i], n);
 
     // The step each lane takes: its voxel's material while that voxel is active, else the outside's.
-    I column;
     const auto outside = static_cast<std::uint32_t>(ctx.materials.size());
-    for (int l = 0; l < L; ++l) column[l] = int(step_column(ctx, old_voxel[l], outside));
+    std::int32_t col[L];
+    for (int l = 0; l < L; ++l) col[l] = int(step_column(ctx, old_voxel[l], outside));
+    // Built from the scalars in registers (lane stores read back as a vector would stall).
+    I column;
+    if constexpr (L == 8)
+        column = I{col[0], col[1], col[2], col[3], col[4], col[5], col[6], col[7]};
+    else
+        column = I{col[0], col[1], col[2], col[3]};
 
     F ax = (F{} + ctx.accel.x), ay = (F{} + ctx.accel.y), az = (F{} + ctx.accel.z);
     if (ctx.dissolve.active()) {
@@ -309,10 +315,17 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
         (U(__builtin_convertvector(gz, I)) * std::uint32_t(g.ny) + U(__builtin_convertvector(gy, I))) *
             std::uint32_t(g.nx) +
         U(__builtin_convertvector(gx, I));
-    U voxel = inside ? cell_index : U{} + kOutsideVoxel;
-    for (int l = 0; l < n; ++l)
-        if (step_column(ctx, voxel[l], outside) == outside) voxel[l] = kOutsideVoxel;
-    for (unsigned b = Ln::bits(I(voxel != old_voxel)) & ((1u << n) - 1u); b; b &= b - 1) {
+    const U in_grid = inside ? cell_index : U{} + kOutsideVoxel;
+    // The changes as bits straight from the scalar lookups: the lanes written back one by one and read
+    // as a vector would wait for every store.
+    std::uint32_t voxel[L];
+    unsigned changed = 0;
+    for (int l = 0; l < n; ++l) {
+        const std::uint32_t v = in_grid[l];
+        voxel[l] = step_column(ctx, v, outside) == outside ? kOutsideVoxel : v;
+        changed |= unsigned(voxel[l] != old_voxel[l]) << l;
+    }
+    for (unsigned b = changed; b; b &= b - 1) {
         const int l = __builtin_ctz(b);
         change_voxel(ctx, i + std::size_t(l), old_voxel[l], voxel[l], lists.moves + 2 * lists.move_n++);
     }
