@@ -35,34 +35,12 @@ std::size_t depth_sort_blocks(std::size_t n, std::uint32_t block_size) {
     return (n + block_size - 1) / block_size;
 }
 
-namespace {
-
-// Block b's keys; `position(i, x, y, z)` fetches particle i's centre from whichever layout holds it.
-template <class Position>
-void keys_block(const DepthSortContext& ctx, std::size_t block, Position&& position) {
+void depth_keys_block(const DepthSortContext& ctx, std::span<std::uint32_t> keys, std::size_t block) {
     const auto [begin, end] = block_range(ctx, block);
     const DepthKeyMap& m = ctx.map;
     const float scale = m.scale();
-    float x = 0, y = 0, z = 0;
-    for (std::size_t i = begin; i < end; ++i) {
-        position(i, x, y, z);
-        ctx.keys[i] = m.key_of_depth(m.depth(x, y, z), scale);
-    }
-}
-
-}  // namespace
-
-void depth_keys_block(const DepthSortContext& ctx, std::size_t block) {
-    keys_block(ctx, block, [&](std::size_t i, float& x, float& y, float& z) {
-        x = ctx.x[i], y = ctx.y[i], z = ctx.z[i];
-    });
-}
-
-void depth_keys_block(const DepthSortContext& ctx, std::span<const DiffuseSprite> sprites,
-                      std::size_t block) {
-    keys_block(ctx, block, [&](std::size_t i, float& x, float& y, float& z) {
-        x = sprites[i].x, y = sprites[i].y, z = sprites[i].z;
-    });
+    for (std::size_t i = begin; i < end; ++i)
+        keys[i] = m.key_of_depth(m.depth(ctx.x[i], ctx.y[i], ctx.z[i]), scale);
 }
 
 void radix_histogram_block(const DepthSortContext& ctx, std::uint32_t pass, std::size_t block) {
@@ -121,9 +99,9 @@ void radix_scatter_block(const DepthSortContext& ctx, std::uint32_t pass, std::s
     }
 }
 
-void depth_sort_serial(const DepthSortContext& ctx) {
+void depth_sort_serial(const DepthSortContext& ctx, std::span<std::uint32_t> keys) {
     const std::size_t blocks = depth_sort_blocks(ctx.size(), ctx.block_size);
-    for (std::size_t b = 0; b < blocks; ++b) depth_keys_block(ctx, b);
+    for (std::size_t b = 0; b < blocks; ++b) depth_keys_block(ctx, keys, b);
     for (std::uint32_t pass = 0; pass < kRadixPasses; ++pass) {
         for (std::size_t b = 0; b < blocks; ++b) radix_histogram_block(ctx, pass, b);
         radix_prefix(ctx, pass);

@@ -22,48 +22,22 @@
 #include <cstdint>
 #include <span>
 
-#include "jobs/diffuse_particles.h"
-#include "jobs/vec3.h"
+#include "jobs/depth_key_map.h"
 
 namespace rivulet {
 
-inline constexpr std::uint32_t kDepthKeyBits = 16;
 inline constexpr std::uint32_t kRadixBits = 8;
 inline constexpr std::uint32_t kRadixDigits = 1u << kRadixBits;  // histogram slots per block
 inline constexpr std::uint32_t kRadixPasses = kDepthKeyBits / kRadixBits;
-inline constexpr std::uint32_t kDepthKeyMax = (1u << kDepthKeyBits) - 1u;
 // Large enough that the per-block histograms stay small next to the data (1M particles: 64 blocks,
 // 64 KiB), small enough to give two threads plenty of blocks to balance.
 inline constexpr std::uint32_t kDepthSortBlockSize = 16384;
 
-// Depth along the view to key. Depths outside [min, max] clamp to its ends; NaN counts as depth_min
-// (drawn last), so every input gives a defined key.
-struct DepthKeyMap {
-    Vec3f origin;
-    Vec3f direction;  // need not be unit length: depths are measured in its units
-    float depth_min = 0, depth_max = 1;
-
-    float depth(float x, float y, float z) const {
-        return (x - origin.x) * direction.x + (y - origin.y) * direction.y + (z - origin.z) * direction.z;
-    }
-    // Key steps per unit of depth; 0 when the range is empty (every key equal, order = index order).
-    float scale() const {
-        const float range = depth_max - depth_min;
-        return range > 0 ? static_cast<float>(kDepthKeyMax + 1u) / range : 0.0f;
-    }
-    std::uint32_t key_of_depth(float d, float scale) const {
-        const float s = (d - depth_min) * scale;
-        const float q =
-            s > 0.0f ? (s < static_cast<float>(kDepthKeyMax) ? s : static_cast<float>(kDepthKeyMax)) : 0.0f;
-        return kDepthKeyMax - static_cast<std::uint32_t>(q);
-    }
-    std::uint32_t key(float x, float y, float z) const { return key_of_depth(depth(x, y, z), scale()); }
-};
-
 struct DepthSortContext {
     std::span<const float> x, y, z;  // particle positions, n each
     DepthKeyMap map;
-    std::span<std::uint32_t> keys, keys_tmp;    // n each
+    std::span<const std::uint32_t> keys;        // n, one per particle
+    std::span<std::uint32_t> keys_tmp;          // n
     std::span<std::uint32_t> order, order_tmp;  // n each; `order` is the result
     // Block-major, kRadixDigits per block: counts after a histogram pass, write cursors after the prefix.
     std::span<std::uint32_t> histograms;
@@ -76,10 +50,9 @@ struct DepthSortContext {
 // Number of blocks for n particles (0 for n = 0).
 std::size_t depth_sort_blocks(std::size_t n, std::uint32_t block_size = kDepthSortBlockSize);
 
-// Parallel over blocks: keys of block b's particles. Runs first.
-void depth_keys_block(const DepthSortContext& ctx, std::size_t block);
-// The same, the positions read from packed sprites (x, y, z of the context unused).
-void depth_keys_block(const DepthSortContext& ctx, std::span<const DiffuseSprite> sprites, std::size_t block);
+// Parallel over blocks: keys of block b's particles (ctx.x, y, z) into `keys`, the span ctx.keys views.
+// Runs first, unless the caller made the keys (the diffuse update makes its sprites' keys).
+void depth_keys_block(const DepthSortContext& ctx, std::span<std::uint32_t> keys, std::size_t block);
 // Parallel over blocks: counts of block b's digits for `pass` (0: low 8 bits, 1: high 8 bits).
 void radix_histogram_block(const DepthSortContext& ctx, std::uint32_t pass, std::size_t block);
 // Serial, after every block's histogram of `pass`: turns the counts into each block's write cursors.
@@ -88,7 +61,7 @@ void radix_prefix(const DepthSortContext& ctx, std::uint32_t pass);
 // (order implied: particle index) and writes keys_tmp/order_tmp; pass 1 reads those and writes `order`.
 void radix_scatter_block(const DepthSortContext& ctx, std::uint32_t pass, std::size_t block);
 
-// All kernels in order on the calling thread (tests, tools).
-void depth_sort_serial(const DepthSortContext& ctx);
+// All kernels in order on the calling thread, the keys made into `keys` first (tests, tools).
+void depth_sort_serial(const DepthSortContext& ctx, std::span<std::uint32_t> keys);
 
 }  // namespace rivulet

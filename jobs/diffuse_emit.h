@@ -24,6 +24,7 @@ struct DiffuseEmitContext {
     Vec3f offset;           // the object's displacement (world = object space + offset)
     Vec3f object_velocity;  // the object's motion, given to new particles as momentum (§5.1)
     DissolveFront dissolve;
+    DepthKeyMap depth_map;  // the sprites' sort keys
     std::size_t block_size = 4096;
     std::span<std::uint32_t> counts;   // per block: wanted, then (after the prefix) granted
     std::span<std::uint32_t> offsets;  // per block

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 
+#include "jobs/depth_key_map.h"
 #include "jobs/diffuse_forces.h"
 #include "jobs/vec3.h"
 
@@ -85,7 +86,8 @@ struct DiffuseAttributeSpans {
     std::span<float> from_size, to_size;
     std::span<float> elapsed, duration;
     std::span<std::uint8_t> fading;
-    std::span<DiffuseSprite> sprite;  // this frame's position, size and colour, for the sprite pass
+    std::span<DiffuseSprite> sprite;     // this frame's position, size and colour, for the sprite pass
+    std::span<std::uint32_t> depth_key;  // the sprite's back-to-front sort key (DepthKeyMap)
 };
 
 // Per channel a + (b - a) t, t in [0, 1], in 8-bit fixed point (t to 1/256).

@@ -359,6 +359,15 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
         Ln::store_sprites(&A.sprite[i], px, py, pz, size, rgba);
     else
         for (int l = 0; l < n; ++l) A.sprite[i + std::size_t(l)] = {px[l], py[l], pz[l], size[l], rgba[l]};
+    // The sort key (DepthKeyMap::key, lane by lane the same operations).
+    const DepthKeyMap& dm = ctx.depth_map;
+    const F depth = ((px - dm.origin.x) * dm.direction.x + (py - dm.origin.y) * dm.direction.y) +
+                    (pz - dm.origin.z) * dm.direction.z;
+    const F scaled = (depth - dm.depth_min) * dm.scale();
+    const F key_max = F{} + float(kDepthKeyMax);
+    const F clamped = scaled > zero ? (scaled < key_max ? scaled : key_max) : zero;
+    const U key = U{} + kDepthKeyMax - U(__builtin_convertvector(clamped, I));
+    Ln::store(&A.depth_key[i], key, n);
     for (unsigned b = Ln::bits(fading & (now >= duration)) & ((1u << n) - 1u); b; b &= b - 1)
         lists.dead[lists.dead_n++] = static_cast<std::uint32_t>(i + std::size_t(__builtin_ctz(b)));
 }

@@ -39,6 +39,7 @@ struct DiffuseUpdateContext {
     std::span<const DiffuseColliderStep> colliders;
     Vec3f accel;  // the scene's gravity or wind, everywhere
     DissolveFront dissolve;
+    DepthKeyMap depth_map;  // the sprites' sort keys, made here while the positions are at hand
     // make_diffuse_step_table(materials, the step outside the active voxels: no force, no drag)
     std::span<const float> steps;
     float restitution = 0.3f;

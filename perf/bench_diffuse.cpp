@@ -6,7 +6,7 @@
 // updates, sorts and stages that many particles. Prints one row per count, medians over the frames.
 //
 //   bench_diffuse [--scene ghost] [--particles 40000,250000,1000000] [--threads 2] [--frames 30]
-//                 [--size 1280x720] [--no-render]
+//                 [--size 1280x720] [--no-render] [--jobs]
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -66,6 +66,8 @@ int main(int argc, char** argv) {
     app.add_option("--frames", frames, "Timed frames per count")->capture_default_str();
     app.add_option("--size", size, "Picture size WxH")->capture_default_str();
     app.add_flag("--no-render", no_render, "CPU side only");
+    bool jobs = false;
+    app.add_flag("--jobs", jobs, "Also print every job's median ms");
     CLI11_PARSE(app, argc, argv);
     keep_freed_memory_for_reuse();
     ThreadControl control(threads);
@@ -99,6 +101,10 @@ int main(int argc, char** argv) {
                    stage(pipeline, "sprites.keys", skip) + stage(pipeline, "sprites.histogram", skip) +
                        stage(pipeline, "sprites.prefix", skip) + stage(pipeline, "sprites.scatter", skip),
                    stage(pipeline, "sprites.stage", skip), median(total), no_render ? 0.0 : median(render));
+        if (jobs)
+            for (FrameGraph::JobId j = 0; j < pipeline.graph().job_count(); ++j)
+                fmt::print("    {:<28} {:>8.3f}\n", pipeline.graph().job_name(j),
+                           stage(pipeline, std::string(pipeline.graph().job_name(j)).c_str(), skip));
         std::fflush(stdout);
     }
 }

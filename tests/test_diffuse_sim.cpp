@@ -86,6 +86,7 @@ struct TwoVoxels {
     std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead, dead_count{0}, moves{0, 0}, move_count{0};
     std::vector<float> from_size, to_size, elapsed, duration;
     std::vector<DiffuseSprite> sprite{1};
+    std::vector<std::uint32_t> depth_key{0};
     std::vector<std::uint8_t> fading;
     std::vector<std::uint16_t> material{0, kNoMaterial};
     std::vector<std::uint32_t> voxel_rgba{0x80ffffffu, 0};
@@ -105,7 +106,8 @@ struct TwoVoxels {
     DiffuseUpdateContext context() {
         DiffuseUpdateContext c;
         c.particles = {x, y, z, vx, vy, vz, id};
-        c.attributes = {voxel, from_rgba, to_rgba, from_size, to_size, elapsed, duration, fading, sprite};
+        c.attributes = {voxel,   from_rgba, to_rgba, from_size, to_size,
+                        elapsed, duration,  fading,  sprite,    depth_key};
         c.grid = {{0, 0, 0}, 1, 2, 1, 1};
         c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
         c.blocked = blocked, c.density = density;
@@ -180,7 +182,7 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
     std::vector<std::uint32_t> density(6, 100);
     std::vector<float> x, y, z, vx, vy, vz, from_size, to_size, elapsed, duration;
     std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead(64), dead_count(1), moves(128),
-        move_count(1);
+        move_count(1), depth_key(kParticles);
     std::vector<std::uint8_t> fading;
     for (std::size_t i = 0; i < kParticles; ++i) {
         const float u = float(i % 7) / 7.0f, w = float(i % 5) / 5.0f;
@@ -204,9 +206,11 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
     c.blocked = blocked, c.density = density, c.steps = steps;
     c.accel = accel, c.dt = kDt, c.block_size = 64, c.dead = dead, c.dead_count = dead_count;
     c.moves = moves, c.move_count = move_count;
+    c.depth_map = {{-1.0f, 2.0f, 3.0f}, normalize(Vec3f{0.6f, -0.3f, -0.5f}), 0.5f, 5.0f};
     const std::vector<float> x0 = x, y0 = y, z0 = z, vx0 = vx, vy0 = vy, vz0 = vz;
     c.particles = {x, y, z, vx, vy, vz, id};
-    c.attributes = {voxel, from_rgba, to_rgba, from_size, to_size, elapsed, duration, fading, sprite};
+    c.attributes = {voxel,   from_rgba, to_rgba, from_size, to_size,
+                    elapsed, duration,  fading,  sprite,    depth_key};
     diffuse_update_block(0, c);
     for (std::size_t i = 0; i < kParticles; ++i) {
         const std::uint32_t cell = std::uint32_t(i % 6);
@@ -228,6 +232,7 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
         EXPECT_EQ(vy[i], v.y) << "particle " << i;
         EXPECT_EQ(vz[i], v.z) << "particle " << i;
         EXPECT_EQ(sprite[i].x, p.x) << "particle " << i;
+        EXPECT_EQ(depth_key[i], c.depth_map.key(p.x, p.y, p.z)) << "particle " << i;
         EXPECT_EQ(voxel[i], c.grid.voxel_of(p - offset) < 5 ? c.grid.voxel_of(p - offset) : kOutsideVoxel);
     }
 }
@@ -372,7 +377,7 @@ TEST(DiffusePipeline, SameBytesAtOneAndTwoThreadsAndReplayedFromARecording) {
     EXPECT_FALSE(first_divergence(back, two).has_value());
 }
 
-TEST(DiffusePipeline, SpritesAreStagedBackToFront) {
+TEST(DiffusePipeline, SpritesAreStagedWithTheirBackToFrontOrder) {
     SceneDesc s = make_builtin_scene("ghost");
     s.max_particles = 8000;
     s.warmup_frames = 20;
@@ -386,13 +391,21 @@ TEST(DiffusePipeline, SpritesAreStagedBackToFront) {
     FrameView view;
     p.surface().fill_view(1, view);
     const auto sprites = view.diffuse.sprites;
+    const auto order = view.diffuse.order;
     ASSERT_GT(sprites.size(), 1000u);
+    ASSERT_EQ(order.size(), sprites.size());
+    std::vector<bool> seen(sprites.size(), false);
+    for (const std::uint32_t k : order) {
+        ASSERT_LT(k, sprites.size());
+        ASSERT_FALSE(seen[k]) << "index " << k << " twice";
+        seen[k] = true;
+    }
     const Vec3f eye = s.camera.eye, dir = normalize(s.camera.target - eye);
     const auto depth = [&](const DiffuseSprite& q) { return dot(Vec3f{q.x, q.y, q.z} - eye, dir); };
     // Within one key step: 16 bits over the surface's 8 m depth window, 0.12 mm.
     const float key_step = 8.0f / float(kDepthKeyMax + 1u);
-    for (std::size_t i = 1; i < sprites.size(); ++i)
-        ASSERT_GE(depth(sprites[i - 1]) + key_step, depth(sprites[i])) << "sprite " << i;
+    for (std::size_t i = 1; i < order.size(); ++i)
+        ASSERT_GE(depth(sprites[order[i - 1]]) + key_step, depth(sprites[order[i]])) << "sprite " << i;
 }
 
 TEST(DiffuseScenes, EveryBuiltInDiffuseSceneRunsAndTheFireIsOneVoxel) {

@@ -52,10 +52,10 @@ class DiffuseSprites : public ::testing::Test {
     static void TearDownTestSuite() { renderer_.reset(); }
 
     static Picture draw(std::span<const DiffuseSprite> sprites, bool additive = false,
-                        const TriangleMeshView& mesh = {}) {
+                        const TriangleMeshView& mesh = {}, std::span<const std::uint32_t> order = {}) {
         FrameView frame;
         frame.mesh = mesh;
-        frame.diffuse = {sprites, additive};
+        frame.diffuse = {sprites, order, additive};
         renderer_->render(frame);
         return Picture(*renderer_);
     }
@@ -137,6 +137,26 @@ TEST_F(DiffuseSprites, OverBlendingShowsTheLastDrawnOnTop) {
     const Rgb wrong = draw(front_to_back).at(cx, cy);
     EXPECT_GT(wrong.r, 180);
     EXPECT_LT(wrong.g, 60);
+}
+
+// With an order the sprites are drawn through it, not as they lie: the same array shows the near one on
+// top when the order puts it last, and the far one when the order puts that last.
+TEST_F(DiffuseSprites, AnOrderDecidesWhichIsDrawnLast) {
+    const DiffuseSprite sprites[] = {
+        {0, 0.5f, 0.5f, 0.4f, pack(20, 230, 20, 240)},   // near, green
+        {0, 0.5f, -1.0f, 0.8f, pack(230, 20, 20, 240)},  // far, red
+    };
+    int cx = 0, cy = 0;
+    pixel_of({0, 0.5f, 0}, cx, cy);
+    const std::uint32_t back_to_front[] = {1, 0}, front_to_back[] = {0, 1};
+    const Rgb c = draw(sprites, false, {}, back_to_front).at(cx, cy);
+    EXPECT_GT(c.g, 180);
+    EXPECT_LT(c.r, 60);
+    const Rgb wrong = draw(sprites, false, {}, front_to_back).at(cx, cy);
+    EXPECT_GT(wrong.r, 180);
+    EXPECT_LT(wrong.g, 60);
+    const std::uint32_t short_order[] = {0};
+    EXPECT_THROW(draw(sprites, false, {}, short_order), std::exception) << "an order must cover every sprite";
 }
 
 TEST_F(DiffuseSprites, AdditiveOverlapIsBrighterThanEither) {

@@ -1,9 +1,10 @@
 #pragma once
 // A diffuse object's particles as the frame pipeline's output (Juckel & Beckhaus, §4.4): the workers sort
-// them back to front by view depth with a parallel radix sort (sprites.keys, then per 8-bit pass
-// sprites.histogram / sprites.prefix / sprites.scatter) and gather them in that order into the slot
-// (sprites.stage); the render thread uploads and draws the slot as point sprites. Additive scenes (fire)
-// need no order and skip the sort.
+// them back to front by view depth with a parallel radix sort over the keys the diffuse update made (per
+// 8-bit pass sprites.histogram / sprites.prefix / sprites.scatter, whose last pass writes the order into
+// the slot); the sprites themselves stay where the simulation wrote them (it alternates between two
+// arrays, so they outlive the next frame's update). The render thread uploads both and draws the sprites
+// through the order as an index buffer. Additive scenes (fire) need no order and skip the sort.
 #include <functional>
 
 #include "jobs/depth_radix_sort.h"
@@ -15,10 +16,13 @@ namespace rivulet {
 
 class SpritesSurface final : public SurfaceSystem {
   public:
-    static constexpr std::size_t kChunk = kDepthSortBlockSize;  // particles per staging item
-
     // `source` is asked on the workers for this frame's particles.
-    SpritesSurface(const SceneDesc& scene, std::function<std::span<const DiffuseSprite>()> source);
+    // A frame's sprites and their sort keys, one each, as the diffuse simulation made them.
+    struct SpriteSource {
+        std::span<const DiffuseSprite> sprites;
+        std::span<const std::uint32_t> depth_keys;
+    };
+    SpritesSurface(const SceneDesc& scene, std::function<SpriteSource()> source);
 
     SurfaceMethod method() const override { return SurfaceMethod::kSprites; }
     FrameGraph::JobId add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
@@ -30,19 +34,21 @@ class SpritesSurface final : public SurfaceSystem {
     void fill_view(int slot, FrameView& view) const override;
 
   private:
-    DepthSortContext sort_context(std::size_t n);
+    DepthSortContext sort_context(std::size_t n, int slot);
 
     SceneDesc scene_;
-    std::function<std::span<const DiffuseSprite>()> source_;
+    std::function<SpriteSource()> source_;
     std::size_t max_particles_;
+    // The frame's sprites as the simulation left them and, unless additive, their back-to-front order:
+    // the renderer draws through the order, so the sort never gathers the 20-byte sprites.
     struct Staged {
-        AlignedArray<DiffuseSprite> sprites;
-        std::size_t count = 0;
+        std::span<const DiffuseSprite> sprites;
+        AlignedArray<std::uint32_t> order;
+        bool sorted = false;
     };
     std::array<Staged, kFrameSlots> staged_;
-    DepthKeyMap map_;
-    std::span<const DiffuseSprite> frame_;  // the particles of the frame being sorted
-    AlignedArray<std::uint32_t> keys_, keys_tmp_, order_, order_tmp_, histograms_;
+    SpriteSource frame_;  // the particles of the frame being sorted
+    AlignedArray<std::uint32_t> keys_tmp_, order_tmp_, histograms_;
 };
 
 }  // namespace rivulet

@@ -83,8 +83,10 @@ std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceMethodSettings& 
         case SurfaceMethod::kSprites:
             if (!sim || !sim->diffuse())
                 throw std::invalid_argument("sprites need the scene's diffuse simulation");
-            return std::make_unique<SpritesSurface>(
-                scene, [sim] { return sim->diffuse()->sprites(sim->particles()); });
+            return std::make_unique<SpritesSurface>(scene, [sim] {
+                return SpritesSurface::SpriteSource{sim->diffuse()->sprites(sim->particles()),
+                                                    sim->diffuse()->depth_keys(sim->particles())};
+            });
     }
     throw std::invalid_argument("unknown surface method");
 }

@@ -46,7 +46,9 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
     particles.reserve(cap);
     for (auto* a : {&voxel_, &from_rgba_, &to_rgba_}) a->reserve(cap);
     for (auto* a : {&from_size_, &to_size_, &elapsed_, &duration_}) a->reserve(cap);
-    sprite_.reserve(cap);
+    for (AlignedArray<DiffuseSprite>& s : sprite_) s.reserve(cap);
+    depth_key_.reserve(cap);
+    depth_map_ = diffuse_depth_map(scene_.camera);
     fading_.reserve(cap);
     const std::size_t blocks = diffuse_update_blocks(cap, kUpdateBlock);
     dead_.assign(blocks * kUpdateBlock, 0);
@@ -61,16 +63,36 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
 DiffuseSimulation::~DiffuseSimulation() = default;
 
 DiffuseAttributeSpans DiffuseSimulation::attributes(std::size_t n) {
-    return {voxel_.span(n),   from_rgba_.span(n), to_rgba_.span(n), from_size_.span(n), to_size_.span(n),
-            elapsed_.span(n), duration_.span(n),  fading_.span(n),  sprite_.span(n)};
+    return {voxel_.span(n),     from_rgba_.span(n), to_rgba_.span(n),
+            from_size_.span(n), to_size_.span(n),   elapsed_.span(n),
+            duration_.span(n),  fading_.span(n),    sprite_[sprite_buffer_].span(n),
+            depth_key_.span(n)};
 }
 
 std::span<const DiffuseSprite> DiffuseSimulation::sprites(const ParticleSet& particles) const {
-    return sprite_.span(particles.size());
+    return sprite_[sprite_buffer_].span(particles.size());
+}
+
+std::span<const std::uint32_t> DiffuseSimulation::depth_keys(const ParticleSet& particles) const {
+    return depth_key_.span(particles.size());
+}
+
+DepthKeyMap diffuse_depth_map(const CameraDesc& camera) {
+    // The scene's camera is fixed: the depth range of a ball around its target that holds the object and
+    // the particles drifting out of its grid while they fade (farther ones clamp, still drawn, in a tie).
+    constexpr float kReach = 4.0f;
+    DepthKeyMap map;
+    map.origin = camera.eye;
+    map.direction = normalize(camera.target - camera.eye);
+    const float to_target = length(camera.target - camera.eye);
+    map.depth_min = std::max(0.0f, to_target - kReach);
+    map.depth_max = to_target + kReach;
+    return map;
 }
 
 void DiffuseSimulation::begin_frame(ParticleSet&, std::uint64_t frame, Vec3f offset) {
     frame_ = frame;
+    sprite_buffer_ = (sprite_buffer_ + 1) % kSpriteBuffers;
     const float dt = scene_.dt;
     prev_offset_ = first_frame_ ? offset : offset_;
     offset_ = offset;
@@ -153,6 +175,7 @@ DiffuseUpdateContext DiffuseSimulation::update_context(ParticleSet& particles) {
     ctx.colliders = steps_;
     ctx.accel = scene_.gravity;
     ctx.dissolve = dissolve_;
+    ctx.depth_map = depth_map_;
     ctx.steps = step_table_;
     ctx.restitution = scene_.restitution;
     ctx.dt = scene_.dt;
@@ -216,7 +239,7 @@ void DiffuseSimulation::compact(ParticleSet& particles) {
             a.voxel[to] = a.voxel[from], a.from_rgba[to] = a.from_rgba[from], a.to_rgba[to] = a.to_rgba[from];
             a.from_size[to] = a.from_size[from], a.to_size[to] = a.to_size[from];
             a.elapsed[to] = a.elapsed[from], a.duration[to] = a.duration[from], a.fading[to] = a.fading[from];
-            a.sprite[to] = a.sprite[from];
+            a.sprite[to] = a.sprite[from], a.depth_key[to] = a.depth_key[from];
         });
     particles.resize(n);
     emit_first_ = n;
@@ -234,6 +257,7 @@ DiffuseEmitContext DiffuseSimulation::emit_context(ParticleSet& particles) {
     ctx.offset = offset_;
     ctx.object_velocity = velocity_;
     ctx.dissolve = dissolve_;
+    ctx.depth_map = depth_map_;
     ctx.block_size = kEmitBlock;
     ctx.counts = emit_counts_;
     ctx.offsets = emit_offsets_;

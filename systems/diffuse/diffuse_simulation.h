@@ -54,8 +54,13 @@ class DiffuseSimulation {
     // After begin_frame: every phase, each block in turn, on this thread.
     void run_phases_serial(ParticleSet& particles);
 
-    // What the sprite pass draws of each particle, in particle order.
+    // What the sprite pass draws of each particle, in particle order. Frames alternate between
+    // kSpriteBuffers arrays, so a frame's sprites stay as they are while the next frame is simulated
+    // (the frame pipeline draws frame N from them while the workers make N + 1): no copy to hand over.
+    static constexpr int kSpriteBuffers = 2;
     std::span<const DiffuseSprite> sprites(const ParticleSet& particles) const;
+    // Each sprite's back-to-front sort key (diffuse_depth_map), made by the update and the emission.
+    std::span<const std::uint32_t> depth_keys(const ParticleSet& particles) const;
     DiffuseAttributeSpans attributes(std::size_t n);
     const VoxelObject& object() const { return object_; }
     const DiffuseGrid& grid() const { return grid_; }
@@ -90,7 +95,10 @@ class DiffuseSimulation {
     std::vector<std::array<int, 6>> blocked_ranges_;  // voxel box each collider blocked last frame
     AlignedArray<std::uint32_t> voxel_, from_rgba_, to_rgba_;
     AlignedArray<float> from_size_, to_size_, elapsed_, duration_;
-    AlignedArray<DiffuseSprite> sprite_;
+    std::array<AlignedArray<DiffuseSprite>, kSpriteBuffers> sprite_;
+    int sprite_buffer_ = 0;  // this frame's
+    AlignedArray<std::uint32_t> depth_key_;
+    DepthKeyMap depth_map_;
     AlignedArray<std::uint8_t> fading_;
     std::vector<std::uint32_t> dead_, dead_count_, dead_all_;
     std::vector<std::uint32_t> moves_, move_count_;  // voxel changes per update block
@@ -105,5 +113,9 @@ class DiffuseSimulation {
 
 // Where collider c of `desc` is at time t (seconds): eased from `from` to `to` and back every period.
 Vec3f diffuse_collider_position(const DiffuseCollider& c, double t);
+
+// The sprites' sort keys for the scene's (fixed) camera: depth along its view over a window 8 m deep
+// around its target; 16-bit keys are 0.12 mm apart.
+DepthKeyMap diffuse_depth_map(const CameraDesc& camera);
 
 }  // namespace rivulet

@@ -38,9 +38,12 @@ struct ParticleSpritesView {
     std::size_t size() const { return x.size(); }
 };
 
-// A frame's diffuse-object particles, already sorted. `additive`: emissive blending (fire), order-free.
+// A frame's diffuse-object particles and the order to draw them in: `order` lists their indices back to
+// front (drawn through an index buffer, so the sorted sprites are never gathered on the CPU), or is
+// empty to draw them as they lie. `additive`: emissive blending (fire), order-free.
 struct DiffuseSpritesView {
     std::span<const DiffuseSprite> sprites;
+    std::span<const std::uint32_t> order;
     bool additive = false;
 };
 

@@ -64,7 +64,7 @@ struct SavedState {
 struct SpritePass::Impl {
     std::uint32_t max_sprites;
     int width, height;
-    GLuint program = 0, vbo = 0, vao = 0;
+    GLuint program = 0, vbo = 0, ibo = 0, vao = 0;
     GLint view_proj = -1, pixels_per_unit = -1;
 
     Impl(std::uint32_t max, int w, int h) : max_sprites(max), width(w), height(h) {
@@ -99,6 +99,10 @@ struct SpritePass::Impl {
         glEnableVertexAttribArray(1);
         glVertexAttribFormat(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, offsetof(DiffuseSprite, rgba));
         glVertexAttribBinding(1, 0);
+        // The draw order, bound to the vertex array (indices into the sprites as the workers left them).
+        ibo = create_buffer();
+        buffer_data(ibo, std::size_t(max) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_DRAW);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
         glBindVertexArray(0);
         set_camera(CameraDesc{});
         check_gl("SpritePass setup");
@@ -107,6 +111,7 @@ struct SpritePass::Impl {
     ~Impl() {
         glDeleteVertexArrays(1, &vao);
         glDeleteBuffers(1, &vbo);
+        glDeleteBuffers(1, &ibo);
         glDeleteProgram(program);
     }
 
@@ -125,7 +130,12 @@ struct SpritePass::Impl {
             throw std::out_of_range("SpritePass::draw: " + std::to_string(n) + " sprites, room for " +
                                     std::to_string(max_sprites));
         }
+        if (!view.order.empty() && view.order.size() != n) {
+            throw std::invalid_argument("SpritePass::draw: an order of " + std::to_string(view.order.size()) +
+                                        " for " + std::to_string(n) + " sprites");
+        }
         buffer_sub_data(vbo, 0, n * sizeof(DiffuseSprite), view.sprites.data());
+        if (!view.order.empty()) buffer_sub_data(ibo, 0, n * sizeof(std::uint32_t), view.order.data());
         const SavedState saved = SavedState::take();
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
@@ -139,7 +149,10 @@ struct SpritePass::Impl {
         glEnable(GL_PROGRAM_POINT_SIZE);
         glUseProgram(program);
         glBindVertexArray(vao);
-        glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(n));
+        if (view.order.empty())
+            glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(n));
+        else
+            glDrawElements(GL_POINTS, static_cast<GLsizei>(n), GL_UNSIGNED_INT, nullptr);
         saved.restore();
     }
 };
