@@ -24,9 +24,14 @@ constexpr std::uint32_t digit(std::uint32_t key, std::uint32_t pass) {
     return (key >> (pass * kRadixBits)) & (kRadixDigits - 1u);
 }
 
-// Pass 0 reads the keys in particle order, pass 1 the order pass 0 left.
-std::span<const std::uint32_t> pass_keys(const DepthSortContext& ctx, std::uint32_t pass) {
-    return pass == 0 ? ctx.keys : ctx.keys_tmp;
+// Up to 2^24 particles (and ctx.max_packed), pass 0 leaves each item as one word, its pass-1 digit above
+// its index, so pass 0 writes and pass 1 reads half the bytes; beyond, keys_tmp holds the keys.
+constexpr std::uint32_t kIndexBits = 24;
+constexpr std::uint32_t kIndexMask = (1u << kIndexBits) - 1u;
+static_assert(kRadixPasses == 2 && kRadixBits <= 32 - kIndexBits);
+
+bool packed(const DepthSortContext& ctx) {
+    return ctx.size() <= std::min<std::size_t>(ctx.max_packed, std::size_t{1} << kIndexBits);
 }
 
 }  // namespace
@@ -47,8 +52,15 @@ void radix_histogram_block(const DepthSortContext& ctx, std::uint32_t pass, std:
     const auto [begin, end] = block_range(ctx, block);
     const std::span<std::uint32_t> counts = block_counts(ctx, block);
     std::fill(counts.begin(), counts.end(), 0u);
-    const std::uint32_t* keys = pass_keys(ctx, pass).data();
-    for (std::size_t i = begin; i < end; ++i) ++counts[digit(keys[i], pass)];
+    if (pass == 0) {
+        for (std::size_t i = begin; i < end; ++i) ++counts[digit(ctx.keys[i], 0)];
+    } else if (packed(ctx)) {
+        const std::uint32_t* items = ctx.order_tmp.data();
+        for (std::size_t i = begin; i < end; ++i) ++counts[items[i] >> kIndexBits];
+    } else {
+        const std::uint32_t* keys = ctx.keys_tmp.data();
+        for (std::size_t i = begin; i < end; ++i) ++counts[digit(keys[i], 1)];
+    }
 }
 
 void radix_prefix(const DepthSortContext& ctx, std::uint32_t /*pass*/) {
@@ -79,23 +91,32 @@ void radix_prefix(const DepthSortContext& ctx, std::uint32_t /*pass*/) {
 void radix_scatter_block(const DepthSortContext& ctx, std::uint32_t pass, std::size_t block) {
     const auto [begin, end] = block_range(ctx, block);
     std::uint32_t* cursors = block_counts(ctx, block).data();
-    if (pass == 0) {
-        // The order before pass 0 is the identity, so it is never stored or read.
-        const std::uint32_t* keys = ctx.keys.data();
-        std::uint32_t* keys_out = ctx.keys_tmp.data();
-        std::uint32_t* order_out = ctx.order_tmp.data();
+    const std::uint32_t* keys = ctx.keys.data();
+    std::uint32_t* order_tmp = ctx.order_tmp.data();
+    std::uint32_t* order = ctx.order.data();
+    // The order before pass 0 is the identity, so it is never stored or read; the last pass writes the
+    // order alone (the sorted keys would have no reader).
+    if (pass == 0 && packed(ctx)) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint32_t k = keys[i];
+            order_tmp[cursors[digit(k, 0)]++] = digit(k, 1) << kIndexBits | static_cast<std::uint32_t>(i);
+        }
+    } else if (pass == 0) {
+        std::uint32_t* keys_tmp = ctx.keys_tmp.data();
         for (std::size_t i = begin; i < end; ++i) {
             const std::uint32_t k = keys[i];
             const std::uint32_t at = cursors[digit(k, 0)]++;
-            keys_out[at] = k;
-            order_out[at] = static_cast<std::uint32_t>(i);
+            keys_tmp[at] = k;
+            order_tmp[at] = static_cast<std::uint32_t>(i);
+        }
+    } else if (packed(ctx)) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint32_t item = order_tmp[i];
+            order[cursors[item >> kIndexBits]++] = item & kIndexMask;
         }
     } else {
-        // The last pass writes the order alone: the sorted keys would have no reader.
-        const std::uint32_t* keys = ctx.keys_tmp.data();
-        const std::uint32_t* order_in = ctx.order_tmp.data();
-        std::uint32_t* order_out = ctx.order.data();
-        for (std::size_t i = begin; i < end; ++i) order_out[cursors[digit(keys[i], 1)]++] = order_in[i];
+        const std::uint32_t* keys_tmp = ctx.keys_tmp.data();
+        for (std::size_t i = begin; i < end; ++i) order[cursors[digit(keys_tmp[i], 1)]++] = order_tmp[i];
     }
 }
 

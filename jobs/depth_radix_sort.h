@@ -15,9 +15,11 @@
 // whatever order or thread the blocks run on. Ties keep particle index order.
 //
 // Buffers, all sized by the caller (nothing here allocates):
-//   keys, keys_tmp, order, order_tmp: n each; histograms: depth_sort_blocks(n, block_size) * kRadixDigits.
+//   keys, order, order_tmp: n each; keys_tmp: n where n > min(max_packed, 2^24), else unused;
+//   histograms: depth_sort_blocks(n, block_size) * kRadixDigits.
 // After pass 1, `order` holds the particle indices back to front; `keys` still holds each particle's own
-// key (keys[i] belongs to particle i), and the *_tmp spans hold pass 0's intermediate order.
+// key (keys[i] belongs to particle i), and the *_tmp spans hold pass 0's intermediate order (up to 2^24
+// particles as one word per item: the pass-1 digit above the index).
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -42,6 +44,7 @@ struct DepthSortContext {
     // Block-major, kRadixDigits per block: counts after a histogram pass, write cursors after the prefix.
     std::span<std::uint32_t> histograms;
     std::uint32_t block_size = kDepthSortBlockSize;
+    std::size_t max_packed = std::size_t{1} << 24;  // tests lower it to run the two-word path
 
     // The particles sorted: keys holds one per particle (x, y, z may be empty when the caller made the keys).
     std::size_t size() const { return keys.size(); }

@@ -117,6 +117,17 @@ TEST(DepthRadixSort, ShuffledBlocksGiveTheSameOrder) {
     }
 }
 
+// Past max_packed (2^24 particles in use) pass 0 keeps keys and indices in two arrays: the same order.
+TEST(DepthRadixSort, TwoWordItemsGiveTheSameOrderAsPackedOnes) {
+    const Particles p = random_particles(30'011, 5);
+    Buffers one_word(p, test_map(), 1000), two_words(p, test_map(), 1000);
+    two_words.ctx.max_packed = 0;
+    depth_sort_serial(one_word.ctx, one_word.keys);
+    sort_shuffled(two_words.ctx, two_words.keys, 9);
+    EXPECT_EQ(one_word.order, reference_order(p, test_map()));
+    EXPECT_EQ(two_words.order, one_word.order);
+}
+
 TEST(DepthRadixSort, SmallAndRaggedSizes) {
     for (std::size_t n : {0u, 1u, 2u, 63u, 64u, 65u, 1000u}) {
         const Particles p = random_particles(n, static_cast<std::uint32_t>(n) + 1u);
