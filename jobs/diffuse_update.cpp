@@ -293,7 +293,17 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
                         ((py0 < (F{} + c.swept_min.y)) & (py < (F{} + c.swept_min.y))) |
                         ((pz0 > (F{} + c.swept_max.z)) & (pz > (F{} + c.swept_max.z))) |
                         ((pz0 < (F{} + c.swept_min.z)) & (pz < (F{} + c.swept_min.z)));
-        near |= Ln::bits(~apart);
+        if (!Ln::bits(~apart)) continue;
+        // The step in the collider's frame, as collide_one moves it, against the reach ball.
+        const F sx = px0 - c.offset0.x, sy = py0 - c.offset0.y, sz = pz0 - c.offset0.z;
+        const F dx = (px - c.offset1.x) - sx, dy = (py - c.offset1.y) - sy, dz = (pz - c.offset1.z) - sz;
+        const F wx = c.reach_centre.x - sx, wy = c.reach_centre.y - sy, wz = c.reach_centre.z - sz;
+        const F len2 = dx * dx + dy * dy + dz * dz, along = wx * dx + wy * dy + wz * dz;
+        const F t = len2 > zero ? along / len2 : zero;
+        const F u = t > zero ? (t < F{} + 1.0f ? t : F{} + 1.0f) : zero;
+        const F qx = wx - dx * u, qy = wy - dy * u, qz = wz - dz * u;
+        const I passes_by = (qx * qx + qy * qy + qz * qz) > (F{} + c.reach_radius * c.reach_radius);
+        near |= Ln::bits(~(apart | passes_by));
     }
     for (unsigned b = near & ((1u << n) - 1u); b; b &= b - 1) {
         const int l = __builtin_ctz(b);

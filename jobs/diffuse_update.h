@@ -24,6 +24,10 @@ struct DiffuseColliderStep {
     bool (*collide)(const void* mesh, Vec3f p0, Vec3f& p1, Vec3f& velocity, float restitution) = nullptr;
     Vec3f offset0, offset1;
     Vec3f swept_min, swept_max;
+    // In the collider's frame, a ball every colliding step enters (ColliderMesh::reach_*): the update's
+    // lanes skip the collision test for steps that pass it by.
+    Vec3f reach_centre;
+    float reach_radius = 3.0e38f;
 };
 
 struct DiffuseUpdateContext {

@@ -187,6 +187,12 @@ ColliderMesh::ColliderMesh(std::vector<float> corners) : corners_(std::move(corn
     float longest = std::max({ext.x, ext.y, ext.z});
     if (!(longest > 0)) longest = std::max({std::abs(lo_.x), std::abs(lo_.y), std::abs(lo_.z), 1.0f});
     skin_ = kSkinFraction * std::max(length(ext), longest);
+    reach_centre_ = (lo_ + hi_) * 0.5f;
+    float farthest = 0;
+    for (std::size_t k = 0; k + 2 < corners_.size(); k += 3)
+        farthest =
+            std::max(farthest, length(Vec3f{corners_[k], corners_[k + 1], corners_[k + 2]} - reach_centre_));
+    reach_radius_ = farthest * 1.001f + 2 * skin_;
 
     // The grid reaches a little past the triangles so that segments padded by a fraction of the skin and
     // crossings right at the bounds stay inside it.

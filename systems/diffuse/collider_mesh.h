@@ -32,6 +32,10 @@ class ColliderMesh {
     // How far outside the surface a stopped particle is left: a fixed fraction of the bounding-box diagonal,
     // well above the rounding of moving a point into and out of the collider's frame.
     float skin() const { return skin_; }
+    // A ball (local coordinates) that a segment must enter to collide: every triangle inside it, with room
+    // for the skin and for the padding and rounding of the collision walk.
+    Vec3f reach_centre() const { return reach_centre_; }
+    float reach_radius() const { return reach_radius_; }
 
     // Inside the closed triangle surface. Exact for points off the surface: crossings of a +x ray are
     // counted with exact orientation signs and a consistent tie-break, so rays through edges and vertices
@@ -79,6 +83,8 @@ class ColliderMesh {
     std::vector<float> offsets_;  // dot(normal, corner): planes, for a cheap rejection
     Vec3f lo_, hi_;               // bounds of the triangles
     float skin_ = 0;
+    Vec3f reach_centre_;
+    float reach_radius_ = 0;
     // Uniform grid over the bounds: triangles binned by their (slightly widened) bounding boxes, as offsets
     // into cell_tris_ per cell (CSR).
     Vec3f grid_lo_, cell_size_, inv_cell_;

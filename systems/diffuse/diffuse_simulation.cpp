@@ -102,6 +102,8 @@ void DiffuseSimulation::begin_frame(ParticleSet&, std::uint64_t frame, Vec3f off
     for (std::size_t c = 0; c < colliders_.size(); ++c) {
         DiffuseColliderStep& s = steps_[c];
         s.mesh = colliders_[c].get();
+        s.reach_centre = colliders_[c]->reach_centre();
+        s.reach_radius = colliders_[c]->reach_radius();
         s.collide = collide_mesh;
         s.offset0 = diffuse_collider_position(scene_.diffuse.colliders[c], t0);
         s.offset1 = diffuse_collider_position(scene_.diffuse.colliders[c], t1);
