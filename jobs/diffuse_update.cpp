@@ -134,7 +134,7 @@ struct Lanes {
         }
     }
     // Bit l set where lane l of the comparison result is true.
-    RIVULET_INLINE static unsigned bits(I m) {
+    RIVULET_INLINE static unsigned bits(const I& m) {
         U t;
         if constexpr (L == 8) {
             t = U(m) & U{1, 2, 4, 8, 16, 32, 64, 128};
@@ -153,7 +153,7 @@ struct Lanes {
 // One row of the step table at each lane's column. Eight lanes and eight columns: one permute where the
 // compiler has a variable shuffle (GCC); a lookup per lane otherwise.
 template <int L>
-RIVULET_INLINE void pick(typename Lanes<L>::F& out, const float* row, typename Lanes<L>::I column,
+RIVULET_INLINE void pick(typename Lanes<L>::F& out, const float* row, const typename Lanes<L>::I& column,
                          bool eight_columns) {
 #if defined(__GNUC__) && !defined(__clang__)
     if constexpr (L == 8) {
