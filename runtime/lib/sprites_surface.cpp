@@ -25,13 +25,12 @@ DepthSortContext SpritesSurface::sort_context(std::size_t n, int slot) {
 
 FrameGraph::JobId SpritesSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()>,
                                            std::function<int()> slot, FrameGraph::JobId after) {
-    const bool sorted = !scene_.diffuse.additive;
+    const bool sorted = this->sorted();
     const auto blocks = [this, sorted] { return sorted ? depth_sort_blocks(frame_.sprites.size()) : 0; };
     const auto begin = graph.serial("sprites.begin",
-                                    [this, slot, sorted] {
+                                    [this, slot] {
                                         frame_ = source_();
                                         staged_[slot()].sprites = frame_.sprites;
-                                        staged_[slot()].sorted = sorted;
                                     },
                                     {after});
     // The keys came with the sprites: the simulation made them while it had the positions at hand.
@@ -65,12 +64,17 @@ SurfaceStats SpritesSurface::stats(int slot) const {
     return st;
 }
 
-std::uint64_t SpritesSurface::output_hash(int slot) const {
+std::span<const std::uint32_t> SpritesSurface::order(int slot) const {
     const Staged& s = staged_[slot];
-    const std::uint64_t sprites = hash_bytes(s.sprites.data(), s.sprites.size_bytes());
-    if (!s.sorted) return sprites;
-    return sprites ^
-           (hash_bytes(s.order.data(), s.sprites.size() * sizeof(std::uint32_t)) * 0x9e3779b97f4a7c15ull);
+    return sorted() ? std::span<const std::uint32_t>(s.order.data(), s.sprites.size())
+                    : std::span<const std::uint32_t>();
+}
+
+std::uint64_t SpritesSurface::output_hash(int slot) const {
+    Hasher h;
+    h.add(staged_[slot].sprites);
+    h.add(order(slot));
+    return h.digest();
 }
 
 void SpritesSurface::prepare_renderer(Renderer& renderer) const {
@@ -80,7 +84,7 @@ void SpritesSurface::prepare_renderer(Renderer& renderer) const {
 void SpritesSurface::fill_view(int slot, FrameView& view) const {
     const Staged& s = staged_[slot];
     view.diffuse.sprites = s.sprites;
-    if (s.sorted) view.diffuse.order = std::span<const std::uint32_t>(s.order.data(), s.sprites.size());
+    view.diffuse.order = order(slot);
     view.diffuse.additive = scene_.diffuse.additive;
 }
 

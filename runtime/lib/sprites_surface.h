@@ -44,8 +44,10 @@ class SpritesSurface final : public SurfaceSystem {
     struct Staged {
         std::span<const DiffuseSprite> sprites;
         AlignedArray<std::uint32_t> order;
-        bool sorted = false;
     };
+    bool sorted() const { return !scene_.diffuse.additive; }
+    // The slot's back-to-front order; empty for additive sprites.
+    std::span<const std::uint32_t> order(int slot) const;
     std::array<Staged, kFrameSlots> staged_;
     SpriteSource frame_;  // the particles of the frame being sorted
     AlignedArray<std::uint32_t> keys_tmp_, order_tmp_, histograms_;
