@@ -31,16 +31,18 @@ bool collide_one(const DiffuseColliderStep& c, float dt, float restitution, Vec3
         return false;
     const Vec3f cv = (c.offset1 - c.offset0) * (1 / dt);
     Vec3f local1 = p - c.offset1, rel = v - cv;
-    if (!c.collide(c.mesh, p0 - c.offset0, local1, rel, restitution)) return false;
+    if (!c.collide(c.solid, p0 - c.offset0, local1, rel, restitution)) return false;
     p = local1 + c.offset1;
     v = rel + cv;
     return true;
 }
 
-// A moving solid may push a particle into another one, so the tests repeat while they bounce; still
-// solids come last in each round and so always have the final word.
+// A moving solid may push a particle into another one, so with several solids the tests repeat while
+// they bounce; still solids come last in each round and so always have the final word. One solid's
+// answer is final: it never leaves a particle inside itself.
 void collide_all(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p, Vec3f& v) {
-    for (int round = 0; round < kCollisionRounds; ++round) {
+    const int rounds = ctx.colliders.size() > 1 ? kCollisionRounds : 1;
+    for (int round = 0; round < rounds; ++round) {
         bool hit = false;
         for (int still = 0; still < 2; ++still)
             for (const DiffuseColliderStep& c : ctx.colliders)

@@ -18,13 +18,13 @@
 namespace rivulet {
 
 // A collider during this step: its offsets at the step's start and end (it moves in between), the world
-// box its surface sweeps, and its collision test in its own frame (a ColliderMesh behind `mesh`).
+// box its surface sweeps, and its collision test in its own frame (a SolidCollider behind `solid`).
 struct DiffuseColliderStep {
-    const void* mesh = nullptr;
-    bool (*collide)(const void* mesh, Vec3f p0, Vec3f& p1, Vec3f& velocity, float restitution) = nullptr;
+    const void* solid = nullptr;
+    bool (*collide)(const void* solid, Vec3f p0, Vec3f& p1, Vec3f& velocity, float restitution) = nullptr;
     Vec3f offset0, offset1;
     Vec3f swept_min, swept_max;
-    // In the collider's frame, a ball every colliding step enters (ColliderMesh::reach_*): the update's
+    // In the collider's frame, a ball every colliding step enters (SolidCollider::reach_*): the update's
     // lanes skip the collision test for steps that pass it by.
     Vec3f reach_centre;
     float reach_radius = 3.0e38f;

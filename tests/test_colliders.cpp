@@ -1,14 +1,14 @@
 // Solid colliders for diffuse particles (Juckel & Beckhaus, "Rendering diffuse objects using particle systems
-// inside voxelized surface geometry", §5.2): the segment-triangle test, inside/outside, the conservative box
-// overlap that switches voxels off, and the collision response whose promise is that a particle starting
-// outside never ends inside.
+// inside voxelized surface geometry", §5.2), triangle meshes and the exact sphere and box: the
+// segment-triangle test, inside/outside, the conservative box overlap that switches voxels off, and the
+// collision response whose promise is that a particle starting outside never ends inside.
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -17,6 +17,7 @@
 
 #include "jobs/segment_triangle.h"
 #include "systems/diffuse/collider_mesh.h"
+#include "systems/diffuse/solid_collider.h"
 
 #include "support/counting_new.h"
 
@@ -367,7 +368,8 @@ TEST(ColliderMesh, ContainsMatchesAConcavePrism) {
 
 // ---------------------------------------------------------------------------------------- overlaps_box
 
-void expect_conservative_overlap(const ColliderMesh& c, std::uint32_t seed) {
+template <class Solid>
+void expect_conservative_overlap(const Solid& c, std::uint32_t seed) {
     std::mt19937 rng(seed);
     const Vec3f lo = c.bounds_min() * 1.3f, hi = c.bounds_max() * 1.3f;
     std::uniform_real_distribution<float> size(0.002f, 0.4f);
@@ -420,85 +422,89 @@ TEST(ColliderMesh, OverlapsBoxIsTightForABox) {
 
 // -------------------------------------------------------------------------------------------- collide
 
-struct Collider {
-    const char* name;
-    ColliderMesh mesh;
-    std::function<bool(Vec3f)> surely_inside;  // independent of contains(); false when unsure
-};
+// Surface points that first steps aim at: the corners of a mesh's triangles and points on their edges.
+std::vector<Vec3f> triangle_targets(const ColliderMesh& c, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(0, 1);
+    std::vector<Vec3f> targets;
+    for (std::size_t k = 0; k < 400; ++k) {
+        const std::size_t t = k % c.triangle_count();
+        const Vec3f a = corner_of(c, t, 0), b = corner_of(c, t, 1);
+        targets.push_back(k % 2 ? a : a + (b - a) * unit(rng));
+    }
+    return targets;
+}
 
 // Every step of every particle must end outside. Particles are pulled towards the origin by a spring so
-// they keep coming back at all angles; restitution varies per particle (0 slides, 1 bounces fully).
-void run_cloud(const Collider& c, std::uint32_t seed, double* ns_per_collide = nullptr) {
+// they keep coming back at all angles; restitution varies per particle (0 slides, 1 bounces fully). A
+// tenth aim their first step straight at one of `targets` (corners, edges). `surely_inside` is
+// independent of contains(), false when unsure.
+template <class Solid>
+void run_cloud(const char* name, const Solid& c, const std::function<bool(Vec3f)>& surely_inside,
+               const std::vector<Vec3f>& targets, std::uint32_t seed) {
     constexpr int kParticles = 4000, kSteps = 150;
     constexpr float kDt = 0.08f, kSpring = 4.0f;
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> unit(0, 1);
-    const Vec3f lo = c.mesh.bounds_min() * 2.0f, hi = c.mesh.bounds_max() * 2.0f;
+    const Vec3f lo = c.bounds_min() * 2.0f, hi = c.bounds_max() * 2.0f;
     std::vector<Vec3f> p(kParticles), v(kParticles);
     std::vector<float> e(kParticles);
     for (int i = 0; i < kParticles; ++i) {
         do p[i] = random_in(rng, lo, hi);
-        while (c.mesh.contains(p[i]));
+        while (c.contains(p[i]));
         v[i] = random_in(rng, {-3, -3, -3}, {3, 3, 3});
         e[i] = i % 10 == 0 ? 0.0f : i % 10 == 1 ? 1.0f : unit(rng);
     }
-    // A tenth aim their first step straight at a vertex or edge point of the surface.
-    const auto tv = c.mesh.triangle_vertices();
     for (int i = 0; i < kParticles; i += 10) {
-        const std::size_t t = static_cast<std::size_t>(i / 10) % c.mesh.triangle_count();
-        const Vec3f a{tv[9 * t], tv[9 * t + 1], tv[9 * t + 2]},
-            b{tv[9 * t + 3], tv[9 * t + 4], tv[9 * t + 5]};
-        const Vec3f target = (i / 10) % 2 ? a : a + (b - a) * unit(rng);
+        const Vec3f target = targets[static_cast<std::size_t>(i / 10) % targets.size()];
         const Vec3f from = target + random_unit(rng) * (0.2f + unit(rng));
-        if (c.mesh.contains(from)) continue;
+        if (c.contains(from)) continue;
         p[i] = from;
         v[i] = (target - from) * ((1.0f + unit(rng)) / kDt);
     }
     long hits = 0;
-    double collide_ns = 0;
     for (int step = 0; step < kSteps; ++step) {
-        const auto t0 = std::chrono::steady_clock::now();
         for (int i = 0; i < kParticles; ++i) {
             v[i] = v[i] - p[i] * (kSpring * kDt);
             Vec3f p1 = p[i] + v[i] * kDt;
-            hits += c.mesh.collide(p[i], p1, v[i], e[i]);
+            hits += c.collide(p[i], p1, v[i], e[i]);
             p[i] = p1;
         }
-        collide_ns += std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
         for (int i = 0; i < kParticles; ++i) {
-            ASSERT_FALSE(c.mesh.contains(p[i])) << c.name << " step " << step << " particle " << i;
-            ASSERT_FALSE(c.surely_inside(p[i])) << c.name << " step " << step << " particle " << i;
+            ASSERT_FALSE(c.contains(p[i])) << name << " step " << step << " particle " << i;
+            ASSERT_FALSE(surely_inside(p[i])) << name << " step " << step << " particle " << i;
             ASSERT_TRUE(finite(v[i]));
         }
     }
-    EXPECT_GT(hits, kParticles) << c.name;  // the surface was crossed many times over
-    if (ns_per_collide) *ns_per_collide = collide_ns / (double(kParticles) * kSteps);
+    EXPECT_GT(hits, kParticles) << name;  // the surface was crossed many times over
 }
 
 TEST(ColliderMesh, CollideNeverEndsInsideASphere) {
     const ColliderMesh s = ColliderMesh::sphere(1);
     const float r_in = inradius(s) - 1e-6f;
-    double ns = 0;
-    run_cloud({"sphere", s, [&](Vec3f p) { return length(p) < r_in; }}, 21, &ns);
-    RecordProperty("ns_per_collide", std::to_string(ns));
-    std::printf("sphere: %.0f ns per collide() (with the spring update)\n", ns);
+    run_cloud(
+        "sphere", s, [&](Vec3f p) { return length(p) < r_in; }, triangle_targets(s, 21), 21);
 }
 
 TEST(ColliderMesh, CollideNeverEndsInsideABox) {
     const Vec3f h{1, 0.5f, 0.75f};
-    run_cloud({"box", ColliderMesh::box(h),
-               [&](Vec3f p) { return std::abs(p.x) < h.x && std::abs(p.y) < h.y && std::abs(p.z) < h.z; }},
-              22);
+    const ColliderMesh b = ColliderMesh::box(h);
+    run_cloud(
+        "box", b, [&](Vec3f p) { return std::abs(p.x) < h.x && std::abs(p.y) < h.y && std::abs(p.z) < h.z; },
+        triangle_targets(b, 22), 22);
 }
 
 TEST(ColliderMesh, CollideNeverEndsInsideAConcavePrism) {
-    run_cloud({"L prism", ColliderMesh::from_mesh(l_prism()), [](Vec3f p) { return inside_l(p, 0); }}, 23);
+    const ColliderMesh l = ColliderMesh::from_mesh(l_prism());
+    run_cloud(
+        "L prism", l, [](Vec3f p) { return inside_l(p, 0); }, triangle_targets(l, 23), 23);
 }
 
 TEST(ColliderMesh, CollideNeverEndsInsideAnOctahedron) {
-    run_cloud({"octahedron", ColliderMesh::from_mesh(octahedron(1)),
-               [](Vec3f p) { return std::abs(p.x) + std::abs(p.y) + std::abs(p.z) < 1; }},
-              24);
+    const ColliderMesh o = ColliderMesh::from_mesh(octahedron(1));
+    run_cloud(
+        "octahedron", o, [](Vec3f p) { return std::abs(p.x) + std::abs(p.y) + std::abs(p.z) < 1; },
+        triangle_targets(o, 24), 24);
 }
 
 // Grazing steps: along a face, a hair above it, tilted slightly inwards, over edges and vertices.
@@ -558,8 +564,8 @@ TEST(ColliderMesh, StartingInsideIsLeftAlone) {
 
 // The scene moves the collider by an offset per frame; the caller maps both ends of the step into the
 // collider's frame at their own times, and relative velocity is what reflects.
-TEST(ColliderMesh, MovingColliderPushesParticlesOut) {
-    const ColliderMesh s = ColliderMesh::sphere(0.8f);
+template <class Solid>
+void expect_moving_solid_pushes_particles_out(const Solid& s) {
     auto offset = [](float t) { return Vec3f{1.5f * std::sin(2 * t), 0.6f * std::sin(3 * t), 4.0f}; };
     constexpr int kParticles = 4000, kSteps = 150;
     constexpr float kDt = 0.05f;
@@ -586,6 +592,10 @@ TEST(ColliderMesh, MovingColliderPushesParticlesOut) {
         }
     }
     EXPECT_GT(hits, 1000);
+}
+
+TEST(ColliderMesh, MovingColliderPushesParticlesOut) {
+    expect_moving_solid_pushes_particles_out(ColliderMesh::sphere(0.8f));
 }
 
 TEST(ColliderMesh, CollideIsThreadSafeAndAllocationFree) {
@@ -616,6 +626,201 @@ TEST(ColliderMesh, CollideIsThreadSafeAndAllocationFree) {
         ASSERT_EQ(par_p[i], serial_p[i]);
         ASSERT_EQ(par_v[i], serial_v[i]);
     }
+}
+
+// ------------------------------------------------------------------------------- analytic solids
+
+TEST(SolidCollider, RejectsBadInput) {
+    EXPECT_THROW(SolidCollider::sphere(0), std::invalid_argument);
+    EXPECT_THROW(SolidCollider::sphere(std::nanf("")), std::invalid_argument);
+    EXPECT_THROW(SolidCollider::sphere(std::numeric_limits<float>::infinity()), std::invalid_argument);
+    EXPECT_THROW(SolidCollider::box({1, 0, 1}), std::invalid_argument);
+    EXPECT_THROW(SolidCollider::box({1, std::nanf(""), 1}), std::invalid_argument);
+    EXPECT_THROW(SolidCollider::mesh(ColoredMesh{}), std::invalid_argument);
+}
+
+TEST(SolidCollider, ContainsIsTheExactShape) {
+    const SolidCollider s = SolidCollider::sphere(0.7f);
+    const Vec3f h{1, 0.5f, 0.75f};
+    const SolidCollider b = SolidCollider::box(h);
+    EXPECT_EQ(s.bounds_max(), (Vec3f{0.7f, 0.7f, 0.7f}));
+    EXPECT_EQ(b.bounds_min(), (Vec3f{-1, -0.5f, -0.75f}));
+    std::mt19937 rng(51);
+    for (int i = 0; i < 50000; ++i) {
+        const Vec3f p = random_in(rng, {-1.5f, -1.5f, -1.5f}, {1.5f, 1.5f, 1.5f});
+        if (std::abs(length(p) - 0.7f) > 1e-5f) {
+            ASSERT_EQ(s.contains(p), length(p) < 0.7f) << i;
+        }
+        const float gap = std::max({std::abs(p.x) - h.x, std::abs(p.y) - h.y, std::abs(p.z) - h.z});
+        if (std::abs(gap) > 1e-6f) {
+            ASSERT_EQ(b.contains(p), gap < 0) << i;
+        }
+    }
+    EXPECT_FALSE(b.contains(h));  // the surface is outside
+    EXPECT_FALSE(s.contains({0, 0.7f, 0}));
+    // A mesh solid is the mesh's own answer.
+    const SolidCollider o = SolidCollider::mesh(octahedron(1));
+    const ColliderMesh om = ColliderMesh::from_mesh(octahedron(1));
+    for (int i = 0; i < 5000; ++i) {
+        const Vec3f p = random_in(rng, {-1.2f, -1.2f, -1.2f}, {1.2f, 1.2f, 1.2f});
+        ASSERT_EQ(o.contains(p), om.contains(p));
+    }
+    EXPECT_EQ(o.reach_radius(), om.reach_radius());
+}
+
+TEST(SolidCollider, OverlapsBoxIsConservativeAndTight) {
+    const SolidCollider s = SolidCollider::sphere(1);
+    const SolidCollider b = SolidCollider::box({1, 0.3f, 0.6f});
+    expect_conservative_overlap(s, 52);
+    expect_conservative_overlap(b, 53);
+    std::mt19937 rng(54);
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3f c = random_in(rng, {-2, -2, -2}, {2, 2, 2});
+        const Vec3f e = random_in(rng, {0.001f, 0.001f, 0.001f}, {0.5f, 0.5f, 0.5f});
+        // Distance from the centre to the box, the truth for the sphere.
+        const Vec3f q{std::max(std::abs(c.x) - e.x, 0.0f), std::max(std::abs(c.y) - e.y, 0.0f),
+                      std::max(std::abs(c.z) - e.z, 0.0f)};
+        if (std::abs(length(q) - 1) > 1e-3f) {
+            ASSERT_EQ(s.overlaps_box(c - e, c + e), length(q) < 1) << i;
+        }
+    }
+    EXPECT_TRUE(s.overlaps_box({-0.1f, -0.1f, -0.1f}, {0.1f, 0.1f, 0.1f}));  // wholly inside
+    EXPECT_TRUE(s.overlaps_box({-5, -5, -5}, {5, 5, 5}));                    // wholly around
+    EXPECT_FALSE(s.overlaps_box({0.8f, 0.8f, -0.1f}, {2, 2, 0.1f}));         // in the corner's gap
+    EXPECT_FALSE(b.overlaps_box({1, 1, 1}, {-1, -1, -1}));                   // empty
+}
+
+// Surface points that first steps aim at: a sphere's anywhere; a box's corners and edges, the hard cases.
+std::vector<Vec3f> sphere_targets(float r, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::vector<Vec3f> t(400);
+    for (Vec3f& p : t) p = random_unit(rng) * r;
+    return t;
+}
+
+std::vector<Vec3f> box_targets(Vec3f h, std::uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<Vec3f> t;
+    for (int k = 0; k < 400; ++k) {
+        const float sx = k & 1 ? 1.0f : -1.0f, sy = k & 2 ? 1.0f : -1.0f, sz = k & 4 ? 1.0f : -1.0f;
+        Vec3f p{sx * h.x, sy * h.y, sz * h.z};  // a corner; from the eighth on, a point of an edge
+        if (k >= 8) (k % 3 == 0 ? p.x : k % 3 == 1 ? p.y : p.z) *= u(rng);
+        t.push_back(p);
+    }
+    return t;
+}
+
+TEST(SolidCollider, CollideNeverEndsInsideASphere) {
+    run_cloud(
+        "analytic sphere", SolidCollider::sphere(1), [](Vec3f p) { return length(p) < 1 - 1e-6f; },
+        sphere_targets(1, 55), 55);
+}
+
+TEST(SolidCollider, CollideNeverEndsInsideABox) {
+    const Vec3f h{1, 0.5f, 0.75f};
+    run_cloud(
+        "analytic box", SolidCollider::box(h),
+        [&](Vec3f p) { return std::abs(p.x) < h.x && std::abs(p.y) < h.y && std::abs(p.z) < h.z; },
+        box_targets(h, 56), 56);
+}
+
+TEST(SolidCollider, HeadOnHitReversesTheNormalComponent) {
+    const SolidCollider s = SolidCollider::sphere(1);
+    const SolidCollider b = SolidCollider::box({1, 1, 1});
+    for (const float e : {0.0f, 0.5f, 1.0f}) {
+        for (const SolidCollider* c : {&s, &b}) {
+            Vec3f p1{0, 0, -1.0f};  // from z = 2, 3 units straight down: hits z = 1 after one unit
+            Vec3f v{0, 0, -3};
+            ASSERT_TRUE(c->collide({0, 0, 2}, p1, v, e));
+            EXPECT_FLOAT_EQ(v.z, 3 * e);
+            EXPECT_EQ(v.x, 0);
+            EXPECT_NEAR(p1.z, 1 + c->skin() + 2 * e, 1e-5f);  // the remaining 2 units, mirrored and scaled
+            EXPECT_GT(p1.z, 1);
+        }
+    }
+    // Oblique on the sphere: at (0.6, 0, 0.8) the normal is the point itself; the step's rest reflects
+    // about it and the tangential part of the velocity stays.
+    Vec3f p1{0.6f, 0, 0.8f - 2}, v{0, 0, -2};
+    ASSERT_TRUE(s.collide({0.6f, 0, 2}, p1, v, 1));
+    const Vec3f n{0.6f, 0, 0.8f};
+    EXPECT_NEAR(dot(v, n), 1.6f, 1e-5f);                        // -1.6 before
+    EXPECT_NEAR(dot(v, Vec3f{0.8f, 0, -0.6f}), 1.2f, 1e-5f);    // tangential, unchanged
+    EXPECT_NEAR(length(p1 - n * (1 + s.skin())), 2.0f, 1e-4f);  // 3.2 units, 1.2 to the hit
+    // A miss changes nothing.
+    p1 = {3, 0, 2};
+    v = {1, 0, 0};
+    EXPECT_FALSE(s.collide({2, 0, 2}, p1, v, 1));
+    EXPECT_FALSE(b.collide({2, 0, 2}, p1, v, 1));
+    EXPECT_EQ(p1, (Vec3f{3, 0, 2}));
+    EXPECT_EQ(v, (Vec3f{1, 0, 0}));
+}
+
+// The box's triangles are the same planes, so away from its edges the two answers agree to rounding.
+TEST(SolidCollider, BoxBouncesAsItsTriangles) {
+    const Vec3f h{1, 0.5f, 0.75f};
+    const SolidCollider b = SolidCollider::box(h);
+    const ColliderMesh m = ColliderMesh::box(h);
+    std::mt19937 rng(57);
+    std::uniform_real_distribution<float> unit(0, 1);
+    int hits = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3f p0 = random_in(rng, {-2, -2, -2}, {2, 2, 2});
+        if (b.contains(p0)) continue;
+        const Vec3f p1 = p0 + random_unit(rng) * (3 * unit(rng));
+        const float e = unit(rng);
+        Vec3f pb = p1, vb = p1 - p0, pm = p1, vm = p1 - p0;
+        const bool hb = b.collide(p0, pb, vb, e), hm = m.collide(p0, pm, vm, e);
+        // Within 1e-3 of an edge the two may pick different faces.
+        bool edgy = false;
+        for (float t = 0; t <= 1; t += 1.0f / 512) {
+            const Vec3f q = p0 + (p1 - p0) * t;
+            const int near = (std::abs(std::abs(q.x) - h.x) < 1e-3f) +
+                             (std::abs(std::abs(q.y) - h.y) < 1e-3f) +
+                             (std::abs(std::abs(q.z) - h.z) < 1e-3f);
+            edgy |= near >= 2;
+        }
+        if (edgy) continue;
+        ASSERT_EQ(hb, hm) << i;
+        hits += hb;
+        ASSERT_NEAR(length(pb - pm), 0, 1e-4f) << i;
+        ASSERT_NEAR(length(vb - vm), 0, 1e-4f) << i;
+    }
+    EXPECT_GT(hits, 1000);
+}
+
+TEST(SolidCollider, GrazingAndInsideSteps) {
+    const SolidCollider s = SolidCollider::sphere(1);
+    const SolidCollider b = SolidCollider::box({1, 1, 1});
+    std::mt19937 rng(58);
+    std::uniform_real_distribution<float> unit(0, 1);
+    for (int i = 0; i < 20000; ++i) {
+        // Tangent to the sphere a hair above it, tilted slightly inwards.
+        const Vec3f n = random_unit(rng);
+        const Vec3f along = normalize(cross(n, random_unit(rng)));
+        const Vec3f p0 = n * (1 + 1e-6f * float(i % 8)) - along * 0.3f;
+        if (s.contains(p0)) continue;
+        Vec3f p1 = p0 + along * 0.6f - n * (1e-3f * unit(rng)), v = p1 - p0;
+        s.collide(p0, p1, v, unit(rng));
+        ASSERT_FALSE(s.contains(p1)) << i;
+        // Along a face of the box, on its plane or a hair inside it.
+        const Vec3f q0{-1.5f, 2 * unit(rng) - 1, 1 - 1e-6f * float(i % 3)};
+        Vec3f q1 = q0 + Vec3f{3, 0, -1e-3f * unit(rng)}, w = q1 - q0;
+        if (b.contains(q0)) continue;
+        b.collide(q0, q1, w, unit(rng));
+        ASSERT_FALSE(b.contains(q1)) << i;
+    }
+    // Starting inside: left alone, so it can leave.
+    for (const SolidCollider* c : {&s, &b}) {
+        Vec3f p1{3, 0, 0}, v{3, 0, 0};
+        EXPECT_FALSE(c->collide({0, 0, 0}, p1, v, 1));
+        EXPECT_EQ(p1, (Vec3f{3, 0, 0}));
+    }
+}
+
+TEST(SolidCollider, MovingSolidsPushParticlesOut) {
+    expect_moving_solid_pushes_particles_out(SolidCollider::sphere(0.8f));
+    expect_moving_solid_pushes_particles_out(SolidCollider::box({0.8f, 0.4f, 0.6f}));
 }
 
 }  // namespace

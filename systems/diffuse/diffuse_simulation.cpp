@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "systems/diffuse/collider_mesh.h"
+#include "systems/diffuse/solid_collider.h"
 
 namespace rivulet {
 namespace {
@@ -14,14 +14,10 @@ namespace {
 constexpr std::size_t kUpdateBlock = 16384;
 constexpr std::size_t kEmitBlock = 4096;
 
-bool collide_mesh(const void* mesh, Vec3f p0, Vec3f& p1, Vec3f& velocity, float restitution) {
-    return static_cast<const ColliderMesh*>(mesh)->collide(p0, p1, velocity, restitution);
-}
-
-std::unique_ptr<ColliderMesh> make_collider(const DiffuseCollider& c) {
-    if (c.shape == "sphere") return std::make_unique<ColliderMesh>(ColliderMesh::sphere(c.radius));
-    if (c.shape == "box") return std::make_unique<ColliderMesh>(ColliderMesh::box(c.half_extents));
-    return std::make_unique<ColliderMesh>(ColliderMesh::from_mesh(load_diffuse_mesh(c.mesh, 1, {})));
+SolidCollider make_collider(const DiffuseCollider& c) {
+    if (c.shape == "sphere") return SolidCollider::sphere(c.radius);
+    if (c.shape == "box") return SolidCollider::box(c.half_extents);
+    return SolidCollider::mesh(load_diffuse_mesh(c.mesh, 1, {}));
 }
 
 }  // namespace
@@ -101,13 +97,13 @@ void DiffuseSimulation::begin_frame(ParticleSet&, std::uint64_t frame, Vec3f off
     const double t0 = double(frame) * dt, t1 = double(frame + 1) * dt;
     for (std::size_t c = 0; c < colliders_.size(); ++c) {
         DiffuseColliderStep& s = steps_[c];
-        s.mesh = colliders_[c].get();
-        s.reach_centre = colliders_[c]->reach_centre();
-        s.reach_radius = colliders_[c]->reach_radius();
-        s.collide = collide_mesh;
+        s.solid = &colliders_[c];
+        s.reach_centre = colliders_[c].reach_centre();
+        s.reach_radius = colliders_[c].reach_radius();
+        s.collide = SolidCollider::collide_step;
         s.offset0 = diffuse_collider_position(scene_.diffuse.colliders[c], t0);
         s.offset1 = diffuse_collider_position(scene_.diffuse.colliders[c], t1);
-        const Vec3f lo = colliders_[c]->bounds_min(), hi = colliders_[c]->bounds_max();
+        const Vec3f lo = colliders_[c].bounds_min(), hi = colliders_[c].bounds_max();
         s.swept_min = {std::min(s.offset0.x, s.offset1.x) + lo.x, std::min(s.offset0.y, s.offset1.y) + lo.y,
                        std::min(s.offset0.z, s.offset1.z) + lo.z};
         s.swept_max = {std::max(s.offset0.x, s.offset1.x) + hi.x, std::max(s.offset0.y, s.offset1.y) + hi.y,
@@ -144,8 +140,8 @@ void DiffuseSimulation::block_voxels() {
     for (std::size_t c = 0; c < colliders_.size(); ++c) {
         // Object space of the step's end: where the particles look their voxels up.
         const Vec3f at = steps_[c].offset1 - offset_;
-        const Vec3f lo = colliders_[c]->bounds_min() + at - grid_.origin;
-        const Vec3f hi = colliders_[c]->bounds_max() + at - grid_.origin;
+        const Vec3f lo = colliders_[c].bounds_min() + at - grid_.origin;
+        const Vec3f hi = colliders_[c].bounds_max() + at - grid_.origin;
         auto& r = blocked_ranges_[c];
         r = {std::max(0, int(std::floor(lo.x * inv))), std::min(grid_.nx - 1, int(std::floor(hi.x * inv))),
              std::max(0, int(std::floor(lo.y * inv))), std::min(grid_.ny - 1, int(std::floor(hi.y * inv))),
@@ -157,8 +153,7 @@ void DiffuseSimulation::block_voxels() {
                     if (object_.material[v] == kNoMaterial) continue;
                     const Vec3f vmin =
                         grid_.origin + Vec3f{float(ix), float(iy), float(iz)} * grid_.cell - at;
-                    if (colliders_[c]->overlaps_box(vmin, vmin + Vec3f{1, 1, 1} * grid_.cell))
-                        blocked_[v] = 1;
+                    if (colliders_[c].overlaps_box(vmin, vmin + Vec3f{1, 1, 1} * grid_.cell)) blocked_[v] = 1;
                 }
     }
 }

@@ -17,14 +17,13 @@
 
 #include "jobs/diffuse_emit.h"
 #include "jobs/diffuse_update.h"
+#include "systems/diffuse/solid_collider.h"
 #include "systems/diffuse/voxel_object.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/particles/particle_set.h"
 #include "systems/scenes/scene.h"
 
 namespace rivulet {
-
-class ColliderMesh;
 
 struct DiffusePhase {
     const char* job;  // the frame graph's job
@@ -69,7 +68,7 @@ class DiffuseSimulation {
     // World-space centre of collider c at the end of the last begun frame.
     Vec3f collider_centre(std::size_t c) const { return steps_[c].offset1; }
     std::size_t collider_count() const { return steps_.size(); }
-    const ColliderMesh& collider(std::size_t c) const { return *colliders_[c]; }
+    const SolidCollider& collider(std::size_t c) const { return colliders_[c]; }
     Vec3f object_offset() const { return offset_; }
 
   private:
@@ -90,7 +89,7 @@ class DiffuseSimulation {
     std::vector<float> step_table_;  // the materials' steps and, last, the outside's: no force, no drag
     std::vector<std::uint32_t> density_;
     std::vector<std::uint8_t> blocked_;
-    std::vector<std::unique_ptr<ColliderMesh>> colliders_;
+    std::vector<SolidCollider> colliders_;
     std::vector<DiffuseColliderStep> steps_;
     std::vector<std::array<int, 6>> blocked_ranges_;  // voxel box each collider blocked last frame
     AlignedArray<std::uint32_t> voxel_, from_rgba_, to_rgba_;
