@@ -15,10 +15,9 @@ constexpr int kCollisionRounds = 3;
 // The step-table column of voxel v: its material while active, else `outside` (kOutsideVoxel included).
 // Without branches: lanes mix inside and outside particles at random.
 std::uint32_t step_column(const DiffuseUpdateContext& ctx, std::uint32_t v, std::uint32_t outside) {
-    const bool in_grid = v < ctx.material.size();
-    const std::uint32_t at = in_grid ? v : 0;
-    const std::uint32_t m = ctx.material[at];
-    return (in_grid & (m != kNoMaterial) & (ctx.blocked[at] == 0)) ? m : outside;
+    const bool in_grid = v < ctx.column.size();
+    const std::uint32_t c = ctx.column[in_grid ? v : 0];
+    return in_grid ? c : outside;
 }
 
 // The step p0 -> p against one collider, in the collider's frame, so a moving collider pushes the
@@ -52,13 +51,14 @@ void collide_all(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p, Vec3f& v) 
     }
 }
 
-// Particle i moved from old_voxel to voxel (kOutsideVoxel: no active voxel): the attributes it now
-// interpolates towards; the move is listed for the density.
+// Particle i moved from old_voxel to voxel (kOutsideVoxel: no active voxel) with `elapsed` on its clock
+// before this step: the attributes it now interpolates towards; the move is listed for the density.
 void change_voxel(const DiffuseUpdateContext& ctx, std::size_t i, std::uint32_t old_voxel,
-                  std::uint32_t voxel, std::uint32_t* move) {
+                  std::uint32_t voxel, float elapsed, std::uint32_t* move) {
     move[0] = old_voxel, move[1] = voxel;
     const DiffuseAttributeSpans& A = ctx.attributes;
-    const float t0 = A.duration[i] > 0 ? std::min(1.0f, A.elapsed[i] / A.duration[i]) : 1.0f;
+    A.elapsed[i] = elapsed;
+    const float t0 = A.duration[i] > 0 ? std::min(1.0f, elapsed / A.duration[i]) : 1.0f;
     const std::uint32_t now_rgba = lerp_rgba(A.from_rgba[i], A.to_rgba[i], t0);
     const float now_size = A.from_size[i] + (A.to_size[i] - A.from_size[i]) * t0;
     if (voxel != kOutsideVoxel) {
@@ -80,6 +80,23 @@ void change_voxel(const DiffuseUpdateContext& ctx, std::size_t i, std::uint32_t 
         A.fading[i] = 1;
     }
     A.voxel[i] = voxel;
+}
+
+// Particle i's interpolation over this step, as update_lanes does it lane by lane: its sprite's size and
+// colour, its clock; returns whether it has faded out.
+bool interpolate_one(const DiffuseUpdateContext& ctx, std::size_t i) {
+    const DiffuseAttributeSpans& A = ctx.attributes;
+    const bool fading = A.fading[i] != 0;
+    const float elapsed = A.elapsed[i], duration = A.duration[i];
+    const bool moving = fading || elapsed < duration;
+    const float later = elapsed + ctx.dt;
+    const float q = later / duration;
+    const float t = duration > 0 ? (q < 1.0f ? q : 1.0f) : 1.0f;
+    const float now = moving ? later : elapsed;
+    A.sprite[i].size = moving ? A.from_size[i] + (A.to_size[i] - A.from_size[i]) * t : A.to_size[i];
+    A.sprite[i].rgba = moving ? lerp_rgba(A.from_rgba[i], A.to_rgba[i], t) : A.to_rgba[i];
+    A.elapsed[i] = now;
+    return fading && now >= duration;
 }
 
 // What a block lists as it goes: its dead, ascending, and its particles' voxel changes.
@@ -337,13 +354,11 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
         voxel[l] = step_column(ctx, v, outside) == outside ? kOutsideVoxel : v;
         changed |= unsigned(voxel[l] != old_voxel[l]) << l;
     }
-    for (unsigned b = changed; b; b &= b - 1) {
-        const int l = __builtin_ctz(b);
-        change_voxel(ctx, i + std::size_t(l), old_voxel[l], voxel[l], lists.moves + 2 * lists.move_n++);
-    }
 
     // Interpolation towards the voxel's colour and size; a settled particle (done, not fading) keeps its
-    // own, and its clock need not run.
+    // own, and its clock need not run. The lanes that changed voxel are redone one by one below, after
+    // their new targets are written: writing those first would make these vector loads wait for the
+    // lanes' scalar stores.
     typename Ln::B fading_bytes;
     Ln::load(fading_bytes, &A.fading[i], n);
     const I fading = __builtin_convertvector(fading_bytes, I) != I{};
@@ -380,7 +395,14 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
     const F clamped = scaled > zero ? (scaled < key_max ? scaled : key_max) : zero;
     const U key = U{} + kDepthKeyMax - U(__builtin_convertvector(clamped, I));
     Ln::store(&A.depth_key[i], key, n);
-    for (unsigned b = Ln::bits(fading & (now >= duration)) & ((1u << n) - 1u); b; b &= b - 1)
+    unsigned dead = Ln::bits(fading & (now >= duration)) & ~changed;
+    for (unsigned b = changed; b; b &= b - 1) {
+        const int l = __builtin_ctz(b);
+        const std::size_t k = i + std::size_t(l);
+        change_voxel(ctx, k, old_voxel[l], voxel[l], elapsed[l], lists.moves + 2 * lists.move_n++);
+        dead |= unsigned(interpolate_one(ctx, k)) << l;
+    }
+    for (unsigned b = dead & ((1u << n) - 1u); b; b &= b - 1)
         lists.dead[lists.dead_n++] = static_cast<std::uint32_t>(i + std::size_t(__builtin_ctz(b)));
 }
 

@@ -38,8 +38,9 @@ struct DiffuseUpdateContext {
     std::span<const std::uint16_t> material;  // per voxel
     std::span<const std::uint32_t> voxel_rgba;
     std::span<const VoxelMaterial> materials;
-    std::span<const std::uint8_t> blocked;  // per voxel: non-zero while a collider overlaps it
-    std::span<std::uint32_t> density;       // per voxel; diffuse_apply_moves brings it up to date
+    // Per voxel: its column of `steps` (diffuse_voxel_column), which also says whether it is active.
+    std::span<const std::uint16_t> column;
+    std::span<std::uint32_t> density;  // per voxel; diffuse_apply_moves brings it up to date
     std::span<const DiffuseColliderStep> colliders;
     Vec3f accel;  // the scene's gravity or wind, everywhere
     DissolveFront dissolve;
@@ -58,6 +59,12 @@ struct DiffuseUpdateContext {
     std::span<std::uint32_t> moves;
     std::span<std::uint32_t> move_count;  // per block
 };
+
+// A voxel's column of the step table: its material while it has one and no collider overlaps it, else
+// the outside's (the last, `materials`). One lookup per particle instead of the material and the flag.
+inline std::uint16_t diffuse_voxel_column(std::uint16_t material, bool blocked, std::size_t materials) {
+    return material != kNoMaterial && !blocked ? material : static_cast<std::uint16_t>(materials);
+}
 
 inline std::size_t diffuse_update_blocks(std::size_t particles, std::size_t block_size) {
     return (particles + block_size - 1) / block_size;

@@ -90,7 +90,7 @@ struct TwoVoxels {
     std::vector<std::uint8_t> fading;
     std::vector<std::uint16_t> material{0, kNoMaterial};
     std::vector<std::uint32_t> voxel_rgba{0x80ffffffu, 0};
-    std::vector<std::uint8_t> blocked{0, 0};
+    std::vector<std::uint16_t> column{0, 1};
     std::vector<std::uint32_t> density{1, 0};
     std::vector<VoxelMaterial> materials{1};
     std::vector<float> steps;
@@ -110,7 +110,7 @@ struct TwoVoxels {
                         elapsed, duration,  fading,  sprite,    depth_key};
         c.grid = {{0, 0, 0}, 1, 2, 1, 1};
         c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
-        c.blocked = blocked, c.density = density;
+        c.column = column, c.density = density;
         c.dt = kDt, c.block_size = 1, c.dead = dead, c.dead_count = dead_count;
         c.moves = moves, c.move_count = move_count;
         steps = make_diffuse_step_table(materials, make_voxel_step({}, 0, kDt));
@@ -178,7 +178,7 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
     }
     const std::vector<std::uint16_t> material{0, 1, 2, 3, 4, kNoMaterial};
     const std::vector<std::uint32_t> voxel_rgba(6, 0xff808080u);
-    const std::vector<std::uint8_t> blocked(6, 0);
+    const std::vector<std::uint16_t> column{0, 1, 2, 3, 4, 5};
     std::vector<std::uint32_t> density(6, 100);
     std::vector<float> x, y, z, vx, vy, vz, from_size, to_size, elapsed, duration;
     std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead(64), dead_count(1), moves(128),
@@ -203,7 +203,7 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
     c.grid = {{0, 0, 0}, 1, 6, 1, 1};
     c.offset = offset;
     c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
-    c.blocked = blocked, c.density = density, c.steps = steps;
+    c.column = column, c.density = density, c.steps = steps;
     c.accel = accel, c.dt = kDt, c.block_size = 64, c.dead = dead, c.dead_count = dead_count;
     c.moves = moves, c.move_count = move_count;
     c.depth_map = {{-1.0f, 2.0f, 3.0f}, normalize(Vec3f{0.6f, -0.3f, -0.5f}), 0.5f, 5.0f};

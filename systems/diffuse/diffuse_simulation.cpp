@@ -35,6 +35,9 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
     grid_ = {object_.shape.origin, object_.shape.cell, object_.shape.nx, object_.shape.ny, object_.shape.nz};
     density_.assign(object_.shape.count(), 0);
     blocked_.assign(object_.shape.count(), 0);
+    column_.resize(object_.shape.count());
+    for (std::size_t v = 0; v < column_.size(); ++v)
+        column_[v] = diffuse_voxel_column(object_.material[v], false, object_.materials.size());
     for (const DiffuseCollider& c : d.colliders) colliders_.push_back(make_collider(c));
     steps_.resize(colliders_.size());
     blocked_ranges_.assign(colliders_.size(), {0, -1, 0, -1, 0, -1});
@@ -135,7 +138,11 @@ void DiffuseSimulation::block_voxels() {
     for (const auto& r : blocked_ranges_)
         for (int iz = r[4]; iz <= r[5]; ++iz)
             for (int iy = r[2]; iy <= r[3]; ++iy)
-                for (int ix = r[0]; ix <= r[1]; ++ix) blocked_[object_.shape.index(ix, iy, iz)] = 0;
+                for (int ix = r[0]; ix <= r[1]; ++ix) {
+                    const std::size_t v = object_.shape.index(ix, iy, iz);
+                    blocked_[v] = 0;
+                    column_[v] = diffuse_voxel_column(object_.material[v], false, object_.materials.size());
+                }
     const float inv = 1 / grid_.cell;
     for (std::size_t c = 0; c < colliders_.size(); ++c) {
         // Object space of the step's end: where the particles look their voxels up.
@@ -153,7 +160,11 @@ void DiffuseSimulation::block_voxels() {
                     if (object_.material[v] == kNoMaterial) continue;
                     const Vec3f vmin =
                         grid_.origin + Vec3f{float(ix), float(iy), float(iz)} * grid_.cell - at;
-                    if (colliders_[c].overlaps_box(vmin, vmin + Vec3f{1, 1, 1} * grid_.cell)) blocked_[v] = 1;
+                    if (colliders_[c].overlaps_box(vmin, vmin + Vec3f{1, 1, 1} * grid_.cell)) {
+                        blocked_[v] = 1;
+                        column_[v] =
+                            diffuse_voxel_column(object_.material[v], true, object_.materials.size());
+                    }
                 }
     }
 }
@@ -167,7 +178,7 @@ DiffuseUpdateContext DiffuseSimulation::update_context(ParticleSet& particles) {
     ctx.material = object_.material;
     ctx.voxel_rgba = object_.rgba;
     ctx.materials = object_.materials;
-    ctx.blocked = blocked_;
+    ctx.column = column_;
     ctx.density = density_;
     ctx.colliders = steps_;
     ctx.accel = scene_.gravity;

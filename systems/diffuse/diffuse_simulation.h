@@ -89,6 +89,7 @@ class DiffuseSimulation {
     std::vector<float> step_table_;  // the materials' steps and, last, the outside's: no force, no drag
     std::vector<std::uint32_t> density_;
     std::vector<std::uint8_t> blocked_;
+    std::vector<std::uint16_t> column_;  // diffuse_voxel_column of every voxel, blocked_ included
     std::vector<SolidCollider> colliders_;
     std::vector<DiffuseColliderStep> steps_;
     std::vector<std::array<int, 6>> blocked_ranges_;  // voxel box each collider blocked last frame
