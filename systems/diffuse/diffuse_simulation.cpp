@@ -13,6 +13,7 @@ namespace {
 
 constexpr std::size_t kUpdateBlock = 16384;
 constexpr std::size_t kEmitBlock = 4096;
+constexpr std::size_t kFillBlock = 4096;  // places filled per compact_fill block
 
 SolidCollider make_collider(const DiffuseCollider& c) {
     if (c.shape == "sphere") return SolidCollider::sphere(c.radius);
@@ -55,6 +56,7 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
     moves_.assign(2 * blocks * kUpdateBlock, 0);
     move_count_.assign(blocks, 0);
     dead_all_.reserve(cap);
+    fills_.reserve(2 * cap);
     emit_counts_.assign(diffuse_emit_blocks(object_.inside.size(), kEmitBlock), 0);
     emit_offsets_.assign(emit_counts_.size(), 0);
 }
@@ -197,7 +199,8 @@ DiffuseUpdateContext DiffuseSimulation::update_context(ParticleSet& particles) {
 
 std::size_t DiffuseSimulation::phase_blocks(std::size_t phase, const ParticleSet& particles) const {
     if (!kPhases[phase].parallel) return 1;
-    return phase == kUpdate ? update_blocks(particles) : emit_blocks();
+    if (phase == kUpdate) return update_blocks(particles);
+    return phase == kCompactFill ? fill_blocks() : emit_blocks();
 }
 
 void DiffuseSimulation::run_phase(std::size_t phase, std::size_t block, ParticleSet& particles) {
@@ -206,6 +209,8 @@ void DiffuseSimulation::run_phase(std::size_t phase, std::size_t block, Particle
             return update_block(block, particles);
         case kCompact:
             return compact(particles);
+        case kCompactFill:
+            return fill_block(block, particles);
         case kEmitCount:
             return emit_count_block(block, particles);
         case kEmitOffsets:
@@ -236,21 +241,34 @@ void DiffuseSimulation::compact(ParticleSet& particles) {
     for (std::size_t b = 0; b < update_blocks(particles); ++b)
         dead_all_.insert(dead_all_.end(), dead_.begin() + std::ptrdiff_t(b * kUpdateBlock),
                          dead_.begin() + std::ptrdiff_t(b * kUpdateBlock + dead_count_[b]));
-    emit_first_ = particles.size();
-    if (dead_all_.empty()) return;
+    // Only the pairs here; the copies, scattered over a dozen arrays, are compact_fill's blocks. Every
+    // `to` lies below the new count and every `from` at or above it, so the blocks never meet.
+    fills_.clear();
+    emit_first_ = fill_dead_from_end(particles.size(), dead_all_, [&](std::size_t from, std::size_t to) {
+        fills_.push_back(static_cast<std::uint32_t>(from));
+        fills_.push_back(static_cast<std::uint32_t>(to));
+    });
+}
+
+std::size_t DiffuseSimulation::fill_blocks() const {
+    return (fills_.size() / 2 + kFillBlock - 1) / kFillBlock;
+}
+
+// The count shrinks to emit_first_ in emit_offsets, after every block: the spans here still reach the
+// particles being moved.
+void DiffuseSimulation::fill_block(std::size_t block, ParticleSet& particles) {
     ParticleSpans p = particles.spans();
     DiffuseAttributeSpans a = attributes(particles.size());
-    const std::size_t n =
-        fill_dead_from_end(particles.size(), dead_all_, [&](std::size_t from, std::size_t to) {
-            p.x[to] = p.x[from], p.y[to] = p.y[from], p.z[to] = p.z[from];
-            p.vx[to] = p.vx[from], p.vy[to] = p.vy[from], p.vz[to] = p.vz[from], p.id[to] = p.id[from];
-            a.voxel[to] = a.voxel[from], a.from_rgba[to] = a.from_rgba[from], a.to_rgba[to] = a.to_rgba[from];
-            a.from_size[to] = a.from_size[from], a.to_size[to] = a.to_size[from];
-            a.elapsed[to] = a.elapsed[from], a.duration[to] = a.duration[from], a.fading[to] = a.fading[from];
-            a.sprite[to] = a.sprite[from], a.depth_key[to] = a.depth_key[from];
-        });
-    particles.resize(n);
-    emit_first_ = n;
+    const std::size_t end = std::min(fills_.size() / 2, (block + 1) * kFillBlock);
+    for (std::size_t k = block * kFillBlock; k < end; ++k) {
+        const std::size_t from = fills_[2 * k], to = fills_[2 * k + 1];
+        p.x[to] = p.x[from], p.y[to] = p.y[from], p.z[to] = p.z[from];
+        p.vx[to] = p.vx[from], p.vy[to] = p.vy[from], p.vz[to] = p.vz[from], p.id[to] = p.id[from];
+        a.voxel[to] = a.voxel[from], a.from_rgba[to] = a.from_rgba[from], a.to_rgba[to] = a.to_rgba[from];
+        a.from_size[to] = a.from_size[from], a.to_size[to] = a.to_size[from];
+        a.elapsed[to] = a.elapsed[from], a.duration[to] = a.duration[from], a.fading[to] = a.fading[from];
+        a.sprite[to] = a.sprite[from], a.depth_key[to] = a.depth_key[from];
+    }
 }
 
 DiffuseEmitContext DiffuseSimulation::emit_context(ParticleSet& particles) {

@@ -4,7 +4,8 @@
 // ParticleSet, the density per voxel and the colliders. Each frame runs begin_frame (serial: where the
 // object and colliders are, which voxels colliders block), then the phases of kPhases in order:
 //   update        parallel over update blocks: ages, forces, moves; the dead marked
-//   compact       serial: the voxel changes counted, the dead's places filled from the end
+//   compact       serial: the voxel changes counted; which live particle fills each dead one's place
+//   compact_fill  parallel over fill blocks: those particles copied into the places
 //   emit_count    parallel over emit blocks: how many each emitting voxel adds
 //   emit_offsets  serial: where each block's new particles go
 //   emit          parallel over emit blocks: the new particles
@@ -32,9 +33,18 @@ struct DiffusePhase {
 
 class DiffuseSimulation {
   public:
-    enum Phase : std::size_t { kUpdate = 0, kCompact, kEmitCount, kEmitOffsets, kEmit, kPhaseCount };
+    enum Phase : std::size_t {
+        kUpdate = 0,
+        kCompact,
+        kCompactFill,
+        kEmitCount,
+        kEmitOffsets,
+        kEmit,
+        kPhaseCount
+    };
     static constexpr std::array<DiffusePhase, kPhaseCount> kPhases = {{{"diffuse.update", true},
                                                                        {"diffuse.compact", false},
+                                                                       {"diffuse.compact_fill", true},
                                                                        {"diffuse.emit_count", true},
                                                                        {"diffuse.emit_offsets", false},
                                                                        {"diffuse.emit", true}}};
@@ -75,6 +85,8 @@ class DiffuseSimulation {
     std::size_t update_blocks(const ParticleSet& particles) const;
     void update_block(std::size_t block, ParticleSet& particles);
     void compact(ParticleSet& particles);
+    std::size_t fill_blocks() const;
+    void fill_block(std::size_t block, ParticleSet& particles);
     std::size_t emit_blocks() const { return emit_counts_.size(); }
     void emit_count_block(std::size_t block, ParticleSet& particles);
     void emit_offsets(ParticleSet& particles);
@@ -101,6 +113,7 @@ class DiffuseSimulation {
     DepthKeyMap depth_map_;
     AlignedArray<std::uint8_t> fading_;
     std::vector<std::uint32_t> dead_, dead_count_, dead_all_;
+    std::vector<std::uint32_t> fills_;  // (from, to) pairs: the live particle that fills each dead place
     std::vector<std::uint32_t> moves_, move_count_;  // voxel changes per update block
     std::vector<std::uint32_t> emit_counts_, emit_offsets_;
     std::size_t emit_first_ = 0;
