@@ -666,6 +666,18 @@ TEST(SolidCollider, ContainsIsTheExactShape) {
         ASSERT_EQ(o.contains(p), om.contains(p));
     }
     EXPECT_EQ(o.reach_radius(), om.reach_radius());
+    int hits = 0;
+    for (int i = 0; i < 5000; ++i) {
+        const Vec3f p0 = random_in(rng, {-2, -2, -2}, {2, 2, 2});
+        const Vec3f p1 = p0 + random_unit(rng) * 2.0f;
+        Vec3f pa = p1, pb = p1, va = p1 - p0, vb = p1 - p0;
+        const bool ha = o.collide(p0, pa, va, 0.5f), hb = om.collide(p0, pb, vb, 0.5f);
+        ASSERT_EQ(ha, hb);
+        ASSERT_EQ(pa, pb);
+        ASSERT_EQ(va, vb);
+        hits += ha;
+    }
+    EXPECT_GT(hits, 100);
 }
 
 TEST(SolidCollider, OverlapsBoxIsConservativeAndTight) {

@@ -130,11 +130,6 @@ EdgeSide edge_side(Vec3f u, Vec3f v, double py, double pz) {
     return {e, s};
 }
 
-Vec3f reflect(Vec3f v, Vec3f n, float restitution) {
-    const float vn = dot(v, n);
-    return vn < 0 ? v - n * ((1 + restitution) * vn) : v;
-}
-
 }  // namespace
 
 ColliderMesh ColliderMesh::sphere(float radius) {
@@ -446,13 +441,13 @@ bool ColliderMesh::collide(Vec3f p0, Vec3f& p1, Vec3f& velocity, float restituti
     }
     const float e = restitution > 0 ? restitution : 0;
     const Vec3f first_stop = hit.point + hit.normal * skin_;
-    const Vec3f first_velocity = reflect(velocity, hit.normal, e);
+    const Vec3f first_velocity = reflect_off_surface(velocity, hit.normal, e);
     Vec3f end = p1, v = velocity;
     bool settled = false;
     for (int bounce = 0; bounce < kMaxBounces && !settled; ++bounce) {
         // The rest of the step, mirrored, restarted a skin off the surface so it cannot re-hit this face.
-        const Vec3f rest = reflect(end - hit.point, hit.normal, e);
-        v = reflect(v, hit.normal, e);
+        const Vec3f rest = reflect_off_surface(end - hit.point, hit.normal, e);
+        v = reflect_off_surface(v, hit.normal, e);
         const Vec3f start = hit.point + hit.normal * skin_;
         end = start + rest;
         settled = !first_entry(start, end, hit);

@@ -16,6 +16,13 @@
 
 namespace rivulet {
 
+// A motion or velocity v meeting a surface of outward normal n: its component into the surface reversed
+// and scaled by `restitution`, the tangential part kept; unchanged if it does not point into the surface.
+inline Vec3f reflect_off_surface(Vec3f v, Vec3f n, float restitution) {
+    const float vn = dot(v, n);
+    return vn < 0 ? v - n * ((1 + restitution) * vn) : v;
+}
+
 class ColliderMesh {
   public:
     // Icosphere with 1280 triangles centred at the origin; throws std::invalid_argument unless radius > 0.

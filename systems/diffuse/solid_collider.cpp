@@ -20,11 +20,6 @@ void set_comp(Vec3f& v, int axis, float x) {
     (axis == 0 ? v.x : axis == 1 ? v.y : v.z) = x;
 }
 
-Vec3f reflect(Vec3f v, Vec3f n, float restitution) {
-    const float vn = dot(v, n);
-    return vn < 0 ? v - n * ((1 + restitution) * vn) : v;
-}
-
 }  // namespace
 
 SolidCollider SolidCollider::sphere(float radius) {
@@ -138,10 +133,10 @@ bool SolidCollider::collide_sphere(Vec3f p0, Vec3f& p1, Vec3f& velocity, float r
     const float e = restitution > 0 ? restitution : 0;
     const Vec3f stop = hit + n * skin_;
     // Moving off a sphere's point without a component into it never comes closer than that point.
-    Vec3f end = stop + reflect(p1 - hit, n, e);
+    Vec3f end = stop + reflect_off_surface(p1 - hit, n, e);
     if (dot(end, end) < r2) end = stop;  // rounding only
     p1 = end;
-    velocity = reflect(velocity, n, e);
+    velocity = reflect_off_surface(velocity, n, e);
     return true;
 }
 
@@ -175,10 +170,10 @@ bool SolidCollider::collide_box(Vec3f p0, Vec3f& p1, Vec3f& velocity, float rest
     const float e = restitution > 0 ? restitution : 0;
     // The box lies behind the face's plane; a motion without a component into it stays in front.
     const Vec3f stop = hit + n * skin_;
-    Vec3f end = stop + reflect(p1 - hit, n, e);
+    Vec3f end = stop + reflect_off_surface(p1 - hit, n, e);
     if (contains(end)) end = stop;  // rounding only
     p1 = end;
-    velocity = reflect(velocity, n, e);
+    velocity = reflect_off_surface(velocity, n, e);
     return true;
 }
 
