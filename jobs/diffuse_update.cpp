@@ -52,49 +52,44 @@ void collide_all(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p, Vec3f& v) 
 }
 
 // Particle i moved from old_voxel to voxel (kOutsideVoxel: no active voxel) with `elapsed` on its clock
-// before this step: the attributes it now interpolates towards; the move is listed for the density.
-void change_voxel(const DiffuseUpdateContext& ctx, std::size_t i, std::uint32_t old_voxel,
+// before this step: the attributes it now interpolates towards, then this step of its interpolation as
+// update_lanes makes it lane by lane (its sprite's size and colour, its clock); the move is listed for
+// the density. Returns whether it has faded out.
+bool change_voxel(const DiffuseUpdateContext& ctx, std::size_t i, std::uint32_t old_voxel,
                   std::uint32_t voxel, float elapsed, std::uint32_t* move) {
     move[0] = old_voxel, move[1] = voxel;
     const DiffuseAttributeSpans& A = ctx.attributes;
-    A.elapsed[i] = elapsed;
-    const float t0 = A.duration[i] > 0 ? std::min(1.0f, elapsed / A.duration[i]) : 1.0f;
-    const std::uint32_t now_rgba = lerp_rgba(A.from_rgba[i], A.to_rgba[i], t0);
-    const float now_size = A.from_size[i] + (A.to_size[i] - A.from_size[i]) * t0;
+    std::uint32_t from_rgba = A.from_rgba[i], to_rgba = A.to_rgba[i];
+    float from_size = A.from_size[i], to_size = A.to_size[i], duration = A.duration[i];
+    bool fading = A.fading[i] != 0;
+    const float t0 = duration > 0 ? std::min(1.0f, elapsed / duration) : 1.0f;
+    const std::uint32_t now_rgba = lerp_rgba(from_rgba, to_rgba, t0);
+    const float now_size = from_size + (to_size - from_size) * t0;
     if (voxel != kOutsideVoxel) {
         // Entering a voxel (re-entering included: the fade stops, life goes on).
         const VoxelMaterial& m = ctx.materials[ctx.material[voxel]];
-        A.from_rgba[i] = now_rgba, A.to_rgba[i] = ctx.voxel_rgba[voxel];
-        A.from_size[i] = now_size, A.to_size[i] = m.size;
-        A.elapsed[i] = 0, A.duration[i] = m.interpolation_time;
-        A.fading[i] = 0;
-    } else if (!A.fading[i]) {
+        from_rgba = now_rgba, to_rgba = ctx.voxel_rgba[voxel];
+        from_size = now_size, to_size = m.size;
+        elapsed = 0, duration = m.interpolation_time, fading = false;
+    } else if (!fading) {
         // Leaving the active voxels: fade by the last voxel's fading attributes (§4.3).
         const std::uint16_t mi = old_voxel != kOutsideVoxel ? ctx.material[old_voxel] : kNoMaterial;
         const VoxelMaterial& m = ctx.materials[mi == kNoMaterial ? 0 : mi];
-        A.from_rgba[i] = now_rgba;
-        A.to_rgba[i] =
-            m.fade_color_set ? m.fade_rgba : (now_rgba & 0x00ffffffu) | (m.fade_rgba & 0xff000000u);
-        A.from_size[i] = now_size, A.to_size[i] = m.fade_size;
-        A.elapsed[i] = 0, A.duration[i] = m.lifetime;
-        A.fading[i] = 1;
+        from_rgba = now_rgba;
+        to_rgba = m.fade_color_set ? m.fade_rgba : (now_rgba & 0x00ffffffu) | (m.fade_rgba & 0xff000000u);
+        from_size = now_size, to_size = m.fade_size;
+        elapsed = 0, duration = m.lifetime, fading = true;
     }
-    A.voxel[i] = voxel;
-}
-
-// Particle i's interpolation over this step, as update_lanes does it lane by lane: its sprite's size and
-// colour, its clock; returns whether it has faded out.
-bool interpolate_one(const DiffuseUpdateContext& ctx, std::size_t i) {
-    const DiffuseAttributeSpans& A = ctx.attributes;
-    const bool fading = A.fading[i] != 0;
-    const float elapsed = A.elapsed[i], duration = A.duration[i];
+    A.voxel[i] = voxel, A.fading[i] = fading;
+    A.from_rgba[i] = from_rgba, A.to_rgba[i] = to_rgba;
+    A.from_size[i] = from_size, A.to_size[i] = to_size, A.duration[i] = duration;
     const bool moving = fading || elapsed < duration;
     const float later = elapsed + ctx.dt;
     const float q = later / duration;
     const float t = duration > 0 ? (q < 1.0f ? q : 1.0f) : 1.0f;
     const float now = moving ? later : elapsed;
-    A.sprite[i].size = moving ? A.from_size[i] + (A.to_size[i] - A.from_size[i]) * t : A.to_size[i];
-    A.sprite[i].rgba = moving ? lerp_rgba(A.from_rgba[i], A.to_rgba[i], t) : A.to_rgba[i];
+    A.sprite[i].size = moving ? from_size + (to_size - from_size) * t : to_size;
+    A.sprite[i].rgba = moving ? lerp_rgba(from_rgba, to_rgba, t) : to_rgba;
     A.elapsed[i] = now;
     return fading && now >= duration;
 }
@@ -399,8 +394,9 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
     for (unsigned b = changed; b; b &= b - 1) {
         const int l = __builtin_ctz(b);
         const std::size_t k = i + std::size_t(l);
-        change_voxel(ctx, k, old_voxel[l], voxel[l], elapsed[l], lists.moves + 2 * lists.move_n++);
-        dead |= unsigned(interpolate_one(ctx, k)) << l;
+        dead |= unsigned(change_voxel(ctx, k, old_voxel[l], voxel[l], elapsed[l],
+                                      lists.moves + 2 * lists.move_n++))
+                << l;
     }
     for (unsigned b = dead & ((1u << n) - 1u); b; b &= b - 1)
         lists.dead[lists.dead_n++] = static_cast<std::uint32_t>(i + std::size_t(__builtin_ctz(b)));
