@@ -8,7 +8,7 @@ namespace rivulet {
 namespace {
 
 std::uint32_t wanted(std::uint32_t v, const DiffuseEmitContext& ctx) {
-    if (ctx.blocked[v]) return 0;  // no particle may appear inside a solid (§5.2)
+    if (ctx.column[v] == ctx.materials.size()) return 0;  // no particle may appear inside a solid (§5.2)
     if (ctx.dissolve.behind(ctx.grid.voxel_centre(v), float(mix64(v) >> 40) * (1.0f / 16777216.0f))) return 0;
     const VoxelMaterial& m = ctx.materials[ctx.material[v]];
     const std::uint32_t have = ctx.density[v];

@@ -18,7 +18,9 @@ struct DiffuseEmitContext {
     std::span<const std::uint16_t> material;
     std::span<const std::uint32_t> voxel_rgba;
     std::span<const VoxelMaterial> materials;
-    std::span<const std::uint8_t> blocked;
+    // Per voxel: its step-table column (diffuse_voxel_column); an inside voxel has the outside's,
+    // materials.size(), only while a collider overlaps it.
+    std::span<const std::uint16_t> column;
     std::span<std::uint32_t> density;
     DiffuseGrid grid;
     Vec3f offset;           // the object's displacement (world = object space + offset)

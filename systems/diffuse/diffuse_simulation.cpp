@@ -35,12 +35,18 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
     step_table_ = make_diffuse_step_table(object_.materials, make_voxel_step(VoxelForce{}, 0, scene_.dt));
     grid_ = {object_.shape.origin, object_.shape.cell, object_.shape.nx, object_.shape.ny, object_.shape.nz};
     density_.assign(object_.shape.count(), 0);
-    blocked_.assign(object_.shape.count(), 0);
     column_.resize(object_.shape.count());
     for (std::size_t v = 0; v < column_.size(); ++v)
         column_[v] = diffuse_voxel_column(object_.material[v], false, object_.materials.size());
     for (const DiffuseCollider& c : d.colliders) colliders_.push_back(make_collider(c));
     steps_.resize(colliders_.size());
+    for (std::size_t c = 0; c < colliders_.size(); ++c) {
+        DiffuseColliderStep& s = steps_[c];
+        s.solid = &colliders_[c];
+        s.collide = SolidCollider::collide_step;
+        s.reach_centre = colliders_[c].reach_centre();
+        s.reach_radius = colliders_[c].reach_radius();
+    }
     blocked_ranges_.assign(colliders_.size(), {0, -1, 0, -1, 0, -1});
     const std::size_t cap = scene_.max_particles;
     particles.reserve(cap);
@@ -102,10 +108,6 @@ void DiffuseSimulation::begin_frame(ParticleSet&, std::uint64_t frame, Vec3f off
     const double t0 = double(frame) * dt, t1 = double(frame + 1) * dt;
     for (std::size_t c = 0; c < colliders_.size(); ++c) {
         DiffuseColliderStep& s = steps_[c];
-        s.solid = &colliders_[c];
-        s.reach_centre = colliders_[c].reach_centre();
-        s.reach_radius = colliders_[c].reach_radius();
-        s.collide = SolidCollider::collide_step;
         s.offset0 = diffuse_collider_position(scene_.diffuse.colliders[c], t0);
         s.offset1 = diffuse_collider_position(scene_.diffuse.colliders[c], t1);
         const Vec3f lo = colliders_[c].bounds_min(), hi = colliders_[c].bounds_max();
@@ -142,7 +144,6 @@ void DiffuseSimulation::block_voxels() {
             for (int iy = r[2]; iy <= r[3]; ++iy)
                 for (int ix = r[0]; ix <= r[1]; ++ix) {
                     const std::size_t v = object_.shape.index(ix, iy, iz);
-                    blocked_[v] = 0;
                     column_[v] = diffuse_voxel_column(object_.material[v], false, object_.materials.size());
                 }
     const float inv = 1 / grid_.cell;
@@ -162,11 +163,9 @@ void DiffuseSimulation::block_voxels() {
                     if (object_.material[v] == kNoMaterial) continue;
                     const Vec3f vmin =
                         grid_.origin + Vec3f{float(ix), float(iy), float(iz)} * grid_.cell - at;
-                    if (colliders_[c].overlaps_box(vmin, vmin + Vec3f{1, 1, 1} * grid_.cell)) {
-                        blocked_[v] = 1;
+                    if (colliders_[c].overlaps_box(vmin, vmin + Vec3f{1, 1, 1} * grid_.cell))
                         column_[v] =
                             diffuse_voxel_column(object_.material[v], true, object_.materials.size());
-                    }
                 }
     }
 }
@@ -277,7 +276,7 @@ DiffuseEmitContext DiffuseSimulation::emit_context(ParticleSet& particles) {
     ctx.material = object_.material;
     ctx.voxel_rgba = object_.rgba;
     ctx.materials = object_.materials;
-    ctx.blocked = blocked_;
+    ctx.column = column_;
     ctx.density = density_;
     ctx.grid = grid_;
     ctx.offset = offset_;

@@ -74,7 +74,10 @@ class DiffuseSimulation {
     const VoxelObject& object() const { return object_; }
     const DiffuseGrid& grid() const { return grid_; }
     std::span<const std::uint32_t> density() const { return density_; }
-    std::span<const std::uint8_t> blocked() const { return blocked_; }
+    // Whether voxel v is inside the mesh and switched off by a collider this frame.
+    bool blocked(std::uint32_t v) const {
+        return object_.material[v] != kNoMaterial && column_[v] == object_.materials.size();
+    }
     // World-space centre of collider c at the end of the last begun frame.
     Vec3f collider_centre(std::size_t c) const { return steps_[c].offset1; }
     std::size_t collider_count() const { return steps_.size(); }
@@ -100,8 +103,7 @@ class DiffuseSimulation {
     DiffuseGrid grid_;
     std::vector<float> step_table_;  // the materials' steps and, last, the outside's: no force, no drag
     std::vector<std::uint32_t> density_;
-    std::vector<std::uint8_t> blocked_;
-    std::vector<std::uint16_t> column_;  // diffuse_voxel_column of every voxel, blocked_ included
+    std::vector<std::uint16_t> column_;  // diffuse_voxel_column of every voxel: colliders switch them off
     std::vector<SolidCollider> colliders_;
     std::vector<DiffuseColliderStep> steps_;
     std::vector<std::array<int, 6>> blocked_ranges_;  // voxel box each collider blocked last frame

@@ -28,10 +28,7 @@ SolidCollider SolidCollider::sphere(float radius) {
     SolidCollider s;
     s.kind_ = Kind::kSphere;
     s.radius_ = radius;
-    s.hi_ = {radius, radius, radius};
-    s.lo_ = Vec3f{} - s.hi_;
-    s.skin_ = kSkinFraction * length(s.hi_ - s.lo_);
-    s.set_reach(radius);
+    s.set_extent({radius, radius, radius}, radius);
     return s;
 }
 
@@ -42,10 +39,7 @@ SolidCollider SolidCollider::box(Vec3f half_extents) {
     SolidCollider s;
     s.kind_ = Kind::kBox;
     s.half_ = h;
-    s.hi_ = h;
-    s.lo_ = Vec3f{} - h;
-    s.skin_ = kSkinFraction * length(s.hi_ - s.lo_);
-    s.set_reach(length(h));
+    s.set_extent(h, length(h));
     return s;
 }
 
@@ -61,8 +55,12 @@ SolidCollider SolidCollider::mesh(const ColoredMesh& m) {
     return s;
 }
 
-// Room beyond the farthest surface point for the skin and for rounding.
-void SolidCollider::set_reach(float farthest) {
+// A shape centred at the origin: its bounds, its skin, and a reach ball with room beyond the farthest
+// surface point for the skin and for rounding.
+void SolidCollider::set_extent(Vec3f half, float farthest) {
+    hi_ = half;
+    lo_ = Vec3f{} - half;
+    skin_ = kSkinFraction * length(hi_ - lo_);
     reach_centre_ = {};
     reach_radius_ = farthest * 1.001f + 2 * skin_;
 }

@@ -50,7 +50,7 @@ class SolidCollider {
   private:
     enum class Kind : std::uint8_t { kSphere, kBox, kMesh };
     SolidCollider() = default;
-    void set_reach(float farthest);
+    void set_extent(Vec3f half, float farthest);
     bool collide_sphere(Vec3f p0, Vec3f& p1, Vec3f& velocity, float restitution) const;
     bool collide_box(Vec3f p0, Vec3f& p1, Vec3f& velocity, float restitution) const;
 
