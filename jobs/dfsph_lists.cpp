@@ -46,12 +46,13 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                        const DfsphParticleOut& out) {
     lists.pairs.clear();
     const float h2 = kernel.h2, h = kernel.h;
-    // Candidates within h, gathered branch-free from each row of cells and then evaluated in a second
-    // loop; the order (and so every sum's bits) is the cell search's.
+    // Candidates within h, gathered branch-free from each row of cells (every lane is written, the count
+    // advances by the hits), their kernel values four at a time, then the sums and pairs in candidate
+    // order; the order (and so every sum's bits) is the cell search's.
     constexpr int kBatch = 64;
-    const simd::F4 h2_4 = simd::splat(h2);
-    std::uint32_t cand[kBatch];
-    float cand_r2[kBatch];
+    const simd::F4 h2_4 = simd::splat(h2), tiny_4 = simd::splat(1e-9f * h), h_4 = simd::splat(h);
+    alignas(16) std::uint32_t cand[kBatch + 4];
+    alignas(16) float cand_r2[kBatch + 4], cand_w[kBatch + 4], cand_f[kBatch + 4];
     for (std::size_t i = begin; i < end; ++i) {
         const float xi = nb.x[i], yi = nb.y[i], zi = nb.z[i];
         out.pair_begin[i] = static_cast<std::uint32_t>(lists.pairs.size());
@@ -59,18 +60,25 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
         float gx = 0.0f, gy = 0.0f, gz = 0.0f, g2 = 0.0f;
         int count = 0;
         const auto flush = [&] {
+            for (int c = count; c % 4 != 0; ++c) cand_r2[c] = 0.0f;  // lanes past the candidates
+            for (int c = 0; c < count; c += 4) {
+                const simd::F4 r = simd::sqrt(simd::load(&cand_r2[c]));
+                simd::F4 w, dwdq;
+                kernel.at(r, w, dwdq);
+                simd::store(&cand_w[c], w);
+                // volume * (r <= 1e-9 h ? 0 : dwdq / (h r)), as the scalar form
+                const simd::F4 g = simd::select_le(r, tiny_4, simd::splat(0.0f), dwdq / (h_4 * r));
+                simd::store(&cand_f[c], simd::splat(volume) * g);
+            }
             for (int c = 0; c < count; ++c) {
                 const std::uint32_t j = cand[c];
-                const float r2 = cand_r2[c];
-                const float r = std::sqrt(r2);
-                float w = 0.0f, dwdq = 0.0f;
-                kernel.at(r, w, dwdq);
-                w_sum += w;
+                w_sum += cand_w[c];
                 if (j == i) continue;
-                const float f = volume * (r <= 1e-9f * h ? 0.0f : dwdq / (h * r));
-                lists.pairs.push_back({j, f});
+                const float f = cand_f[c], r2 = cand_r2[c];
                 const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
-                gx += f * dx, gy += f * dy, gz += f * dz;
+                const DfsphPair pair{f * dx, f * dy, f * dz, j};
+                lists.pairs.push_back(pair);
+                gx += pair.gx, gy += pair.gy, gz += pair.gz;
                 g2 += f * f * r2;
             }
             count = 0;
@@ -85,24 +93,23 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                                       const simd::F4 dy = simd::splat(yi) - simd::load(&nb.y[j]);
                                       const simd::F4 dz = simd::splat(zi) - simd::load(&nb.z[j]);
                                       const simd::F4 r2 = dx * dx + dy * dy + dz * dz;
-                                      unsigned hits = simd::less_mask(r2, h2_4);
-                                      if (hits == 0) continue;
+                                      const unsigned hits = simd::less_mask(r2, h2_4);
                                       alignas(16) float lanes[4];
                                       simd::store(lanes, r2);
-                                      for (; hits != 0; hits &= hits - 1) {
-                                          const int lane = __builtin_ctz(hits);
-                                          cand[count] = j + std::uint32_t(lane);
+                                      for (unsigned lane = 0; lane < 4; ++lane) {
+                                          cand[count] = j + lane;
                                           cand_r2[count] = lanes[lane];
-                                          if (++count == kBatch) flush();
+                                          count += int(hits >> lane & 1u);
                                       }
+                                      if (count > kBatch - 4) flush();
                                   }
                                   for (; j < row_end; ++j) {
                                       const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
                                       const float r2 = dx * dx + dy * dy + dz * dz;
-                                      if (r2 >= h2) continue;
                                       cand[count] = j;
                                       cand_r2[count] = r2;
-                                      if (++count == kBatch) flush();
+                                      count += int(r2 < h2);
+                                      if (count > kBatch - 4) flush();
                                   }
                               });
         flush();

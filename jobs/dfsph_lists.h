@@ -1,9 +1,10 @@
 #pragma once
 // Neighbour lists of divergence-free SPH (Bender & Koschier 2015), built once per substep and read by
 // every solver iteration: per sorted particle i, its neighbours j within h (itself excluded), each with
-// V grad W_ij of the cubic spline stored as one scalar f (V grad W_ij = f (x_i - x_j); V is the rest
-// volume). In the same pass: the density ratio rho_i / rho0 = sum_j V W_ij + B_i, the wall's share B_i and
-// its gradient, and the DFSPH factor
+// V grad W_ij of the cubic spline as a vector (V is the rest volume): the iterations then read one
+// neighbour value (its stiffness or its velocity) a pair instead of its position as well. In the same pass:
+// the density ratio rho_i / rho0 = sum_j V W_ij + B_i, the wall's share B_i and its gradient, and the DFSPH
+// factor
 //   alpha_i = 1 / (|sum_j V grad W_ij + grad B_i|^2 + sum_j |V grad W_ij|^2)   (0 where that vanishes).
 // The tank walls move with the tank and add their share B_i (DfsphWallTable) per face within h, faces at
 // an edge or corner combined as if the kernel were separable; like boundary particles (Akinci et al.
@@ -21,10 +22,12 @@
 
 namespace rivulet {
 
+// The gradient first, so a pair is one four-lane load with j in the last lane.
 struct DfsphPair {
+    float gx, gy, gz;  // V grad W_ij = f (x_i - x_j), f the kernel's radial factor
     std::uint32_t j;
-    float f;  // V grad W_ij = f (x_i - x_j)
 };
+static_assert(sizeof(DfsphPair) == 16, "a pair is one four-lane load");
 
 // The wall's share of a particle's density at distance s from a wall plane: what a mirror image of the
 // fluid would add if the fluid were the cubic lattice (spacing d) that the particle is a point of,

@@ -1,37 +1,40 @@
 #include "jobs/dfsph_solve.h"
 
+#include "jobs/simd4.h"
+
 namespace rivulet {
 
 namespace {
 
-// sum_j V grad W_ij . (v_i - v_j) over particle i's pairs, plus the walls'.
+// sum_j V grad W_ij . (v_i - v_j) over particle i's pairs, plus the walls': the three products summed
+// per axis in lanes, the axes added at the end.
 inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
-                     std::span<const float> vx, std::span<const float> vy, std::span<const float> vz) {
-    const float xi = c.x[i], yi = c.y[i], zi = c.z[i];
-    const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
-    float rate = 0.0f;
+                     std::span<const float> v4) {
+    const simd::F4 vi = simd::load(&v4[4 * i]);
+    simd::F4 sum = simd::splat(0.0f);
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
-        const DfsphPair q = l.pairs[p];
-        const std::uint32_t j = q.j;
-        rate += q.f * ((xi - c.x[j]) * (vxi - vx[j]) + (yi - c.y[j]) * (vyi - vy[j]) +
-                       (zi - c.z[j]) * (vzi - vz[j]));
+        const DfsphPair& q = l.pairs[p];
+        sum = sum + simd::load3(&q) * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
     }
-    rate += c.wall_gx[i] * (vxi - c.wall_velocity[0]) + c.wall_gy[i] * (vyi - c.wall_velocity[1]) +
-            c.wall_gz[i] * (vzi - c.wall_velocity[2]);
+    alignas(16) float s[4], v[4];
+    simd::store(s, sum);
+    simd::store(v, vi);
+    float rate = (s[0] + s[1]) + s[2];
+    rate += c.wall_gx[i] * (v[0] - c.wall_velocity[0]) + c.wall_gy[i] * (v[1] - c.wall_velocity[1]) +
+            c.wall_gz[i] * (v[2] - c.wall_velocity[2]);
     return rate;
 }
 
 }  // namespace
 
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                      DfsphResidual kind, float dt, std::span<const float> vx, std::span<const float> vy,
-                      std::span<const float> vz, std::span<const float> density_ratio,
-                      std::span<const float> factor, std::span<const float> k_total, std::span<float> k,
-                      float catch_up) {
+                      DfsphResidual kind, float dt, std::span<const float> v4,
+                      std::span<const float> density_ratio, std::span<const float> factor,
+                      std::span<const float> k_total, std::span<float> k, float catch_up) {
     const DfsphChunkLists& l = c.lists[chunk];
     double sum = 0.0;
     for (std::size_t i = begin; i < end; ++i) {
-        const float rate = rate_of(c, l, i, vx, vy, vz);
+        const float rate = rate_of(c, l, i, v4);
         float r = 0.0f;  // signed residual, per second
         if (kind == DfsphResidual::kDivergence) {
             r = c.support[i] >= c.min_support ? rate : 0.0f;
@@ -49,18 +52,27 @@ void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, 
                    std::span<const float> k, const DfsphVelocities& v) {
     const DfsphChunkLists& l = c.lists[chunk];
     for (std::size_t i = begin; i < end; ++i) {
-        const float xi = c.x[i], yi = c.y[i], zi = c.z[i];
         const float ki = k[i];
-        float dx = 0.0f, dy = 0.0f, dz = 0.0f;
+        // The three sums in lanes 0-2, each the scalar sum's operations in the same order.
+        simd::F4 sum = simd::splat(0.0f);
         for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
-            const DfsphPair q = l.pairs[p];
-            const std::uint32_t j = q.j;
-            const float s = (ki + k[j]) * q.f;
-            dx += s * (xi - c.x[j]), dy += s * (yi - c.y[j]), dz += s * (zi - c.z[j]);
+            const DfsphPair& q = l.pairs[p];
+            sum = sum + simd::splat(ki + k[q.j]) * simd::load3(&q);
         }
+        alignas(16) float d[4];
+        simd::store(d, sum);
+        float dx = d[0], dy = d[1], dz = d[2];
         dx += ki * c.wall_gx[i], dy += ki * c.wall_gy[i], dz += ki * c.wall_gz[i];
-        v.vx[i] -= dx, v.vy[i] -= dy, v.vz[i] -= dz;
+        const float vx = v.vx[i] - dx, vy = v.vy[i] - dy, vz = v.vz[i] - dz;
+        v.vx[i] = vx, v.vy[i] = vy, v.vz[i] = vz;
+        v.v4[4 * i] = vx, v.v4[4 * i + 1] = vy, v.v4[4 * i + 2] = vz;
     }
+}
+
+void dfsph_pack_velocities(std::size_t begin, std::size_t end, std::span<const float> vx,
+                           std::span<const float> vy, std::span<const float> vz, std::span<float> v4) {
+    for (std::size_t i = begin; i < end; ++i)
+        v4[4 * i] = vx[i], v4[4 * i + 1] = vy[i], v4[4 * i + 2] = vz[i], v4[4 * i + 3] = 0.0f;
 }
 
 float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
@@ -81,8 +93,8 @@ float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin,
                 const float dx = xi - c.x[j], dy = yi - c.y[j], dz = zi - c.z[j];
                 const float r2 = dx * dx + dy * dy + dz * dz;
                 const float vr = (vxi - vx[j]) * dx + (vyi - vy[j]) * dy + (vzi - vz[j]) * dz;
-                const float s = vr / (r2 + eps2) * q.f;
-                ax += s * dx, ay += s * dy, az += s * dz;
+                const float s = vr / (r2 + eps2);
+                ax += s * q.gx, ay += s * q.gy, az += s * q.gz;
             }
             ax *= scale, ay *= scale, az *= scale;
         }
@@ -90,6 +102,7 @@ float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin,
         const float oy = vyi + dt * (ay + gravity[1]);
         const float oz = vzi + dt * (az + gravity[2]);
         out.vx[i] = ox, out.vy[i] = oy, out.vz[i] = oz;
+        out.v4[4 * i] = ox, out.v4[4 * i + 1] = oy, out.v4[4 * i + 2] = oz, out.v4[4 * i + 3] = 0.0f;
         const float v2 = ox * ox + oy * oy + oz * oz;
         if (v2 > max_v2) max_v2 = v2;
     }

@@ -25,9 +25,16 @@
 
 namespace rivulet {
 
+// A solve's velocities, as columns and again as four floats a particle (x, y, z, +0): a residual pass
+// reads a neighbour's velocity as one load from the latter. Passes that write velocities write both.
 struct DfsphVelocities {
     std::span<float> vx, vy, vz;
+    std::span<float> v4;
 };
+
+// v4[4 i ..] = (vx[i], vy[i], vz[i], +0) for i in [begin, end).
+void dfsph_pack_velocities(std::size_t begin, std::size_t end, std::span<const float> vx,
+                           std::span<const float> vy, std::span<const float> vz, std::span<float> v4);
 
 // What every pass reads: sorted positions, the lists, the walls' gradients and velocity.
 struct DfsphContext {
@@ -44,10 +51,9 @@ enum class DfsphResidual { kDivergence, kDensity };
 inline constexpr float kDfsphRelaxation = 0.5f;
 
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                      DfsphResidual kind, float dt, std::span<const float> vx, std::span<const float> vy,
-                      std::span<const float> vz, std::span<const float> density_ratio,
-                      std::span<const float> factor, std::span<const float> k_total, std::span<float> k,
-                      float catch_up = 1.0f);
+                      DfsphResidual kind, float dt, std::span<const float> v4,
+                      std::span<const float> density_ratio, std::span<const float> factor,
+                      std::span<const float> k_total, std::span<float> k, float catch_up = 1.0f);
 
 void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
                    std::span<const float> k, const DfsphVelocities& v);

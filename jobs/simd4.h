@@ -1,8 +1,9 @@
 #pragma once
 // Four floats at a time, for the few kernels whose loops the compiler will not vectorize by itself
-// (early-exit searches that need a hit mask). SSE2 is part of x86-64, so no -march flag is needed; other
-// targets get the same results from the scalar fallback. Every operation is an exactly rounded IEEE
-// operation per lane, so results are the same bytes either way.
+// (early-exit searches that need a hit mask, gathered neighbours). SSE2 is part of x86-64, so no -march flag
+// is needed; other targets get the same results from the scalar fallback. Every operation is an exactly
+// rounded IEEE operation per lane, so results are the same bytes either way.
+#include <cmath>
 #include <cstdint>
 
 #if defined(__SSE2__)
@@ -31,6 +32,17 @@ inline F4 operator-(F4 a, F4 b) {
 inline F4 operator*(F4 a, F4 b) {
     return {_mm_mul_ps(a.v, b.v)};
 }
+inline F4 operator/(F4 a, F4 b) {
+    return {_mm_div_ps(a.v, b.v)};
+}
+inline F4 sqrt(F4 a) {
+    return {_mm_sqrt_ps(a.v)};
+}
+// Per lane: if_le where a <= b, else otherwise.
+inline F4 select_le(F4 a, F4 b, F4 if_le, F4 otherwise) {
+    const __m128 m = _mm_cmple_ps(a.v, b.v);
+    return {_mm_or_ps(_mm_and_ps(m, if_le.v), _mm_andnot_ps(m, otherwise.v))};
+}
 // Bit k set where lane k of a is less than lane k of b.
 inline unsigned less_mask(F4 a, F4 b) {
     return static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(a.v, b.v)));
@@ -41,6 +53,12 @@ inline void store(float* p, F4 a) {
 // Lane-wise max; b where a is NaN, as maxps.
 inline F4 max(F4 a, F4 b) {
     return {_mm_max_ps(a.v, b.v)};
+}
+// p[0..2] in lanes 0-2 and +0 in lane 3, read as one 16-byte load: the four bytes after p[2] must be
+// readable, and whatever they hold (an index, say) never reaches the arithmetic.
+inline F4 load3(const void* p) {
+    const __m128 all = _mm_loadu_ps(static_cast<const float*>(p));
+    return {_mm_and_ps(all, _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1)))};
 }
 
 #else
@@ -63,6 +81,17 @@ inline F4 operator-(F4 a, F4 b) {
 inline F4 operator*(F4 a, F4 b) {
     return {{a.v[0] * b.v[0], a.v[1] * b.v[1], a.v[2] * b.v[2], a.v[3] * b.v[3]}};
 }
+inline F4 operator/(F4 a, F4 b) {
+    return {{a.v[0] / b.v[0], a.v[1] / b.v[1], a.v[2] / b.v[2], a.v[3] / b.v[3]}};
+}
+inline F4 sqrt(F4 a) {
+    return {{std::sqrt(a.v[0]), std::sqrt(a.v[1]), std::sqrt(a.v[2]), std::sqrt(a.v[3])}};
+}
+inline F4 select_le(F4 a, F4 b, F4 if_le, F4 otherwise) {
+    F4 r;
+    for (unsigned k = 0; k < 4; ++k) r.v[k] = a.v[k] <= b.v[k] ? if_le.v[k] : otherwise.v[k];
+    return r;
+}
 inline unsigned less_mask(F4 a, F4 b) {
     unsigned m = 0;
     for (unsigned k = 0; k < 4; ++k) m |= static_cast<unsigned>(a.v[k] < b.v[k]) << k;
@@ -74,6 +103,10 @@ inline void store(float* p, F4 a) {
 inline F4 max(F4 a, F4 b) {
     return {{a.v[0] > b.v[0] ? a.v[0] : b.v[0], a.v[1] > b.v[1] ? a.v[1] : b.v[1],
              a.v[2] > b.v[2] ? a.v[2] : b.v[2], a.v[3] > b.v[3] ? a.v[3] : b.v[3]}};
+}
+inline F4 load3(const void* p) {
+    const float* f = static_cast<const float*>(p);
+    return {{f[0], f[1], f[2], 0.0f}};
 }
 
 #endif

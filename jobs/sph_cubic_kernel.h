@@ -8,6 +8,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "jobs/simd4.h"
+
 namespace rivulet {
 
 struct SphCubicKernel {
@@ -32,6 +34,18 @@ struct SphCubicKernel {
             w_value = k * 2.0f * t * t * t;
             dwdq = -l * t * t;
         }
+    }
+    // at() for four distances (each lane the same operations as the scalar call: the same bits).
+    void at(simd::F4 r, simd::F4& w_value, simd::F4& dwdq) const {
+        const simd::F4 q = r / simd::splat(h);
+        const simd::F4 w_in = simd::splat(6.0f) * q * q * q - simd::splat(6.0f) * q * q + simd::splat(1.0f);
+        const simd::F4 dw_in = simd::splat(l) * q * (simd::splat(3.0f) * q - simd::splat(2.0f));
+        const simd::F4 t = simd::splat(1.0f) - q;
+        const simd::F4 w_out = simd::splat(k * 2.0f) * t * t * t;
+        const simd::F4 dw_out = simd::splat(-l) * t * t;
+        const simd::F4 half = simd::splat(0.5f);
+        w_value = simd::select_le(q, half, simd::splat(k) * w_in, w_out);
+        dwdq = simd::select_le(q, half, dw_in, dw_out);
     }
     // W at squared distance r2.
     float w(float r2) const {

@@ -4,9 +4,12 @@
 // kernels fall with distance) and are antisymmetric.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <numbers>
+#include <vector>
 
 #include "jobs/sph_cubic_kernel.h"
 #include "jobs/sph_kernels.h"
@@ -120,3 +123,28 @@ TEST(SphKernels, GradientsPointTowardsTheNeighbourAndAreAntisymmetric) {
 
 }  // namespace
 }  // namespace rivulet
+
+// The neighbour lists evaluate the cubic spline four distances at a time; each lane must give the scalar
+// call's bits (the simulation's bytes do not depend on which form ran), on both sides of q = 1/2 too.
+TEST(SphKernels, CubicSplineInFourLanesGivesTheScalarBits) {
+    const rivulet::SphCubicKernel kernel(0.0228f);
+    std::vector<float> r;
+    for (int k = 0; k <= 4000; ++k) r.push_back(kernel.h * float(k) / 4000.0f);
+    const float half = 0.5f * kernel.h;
+    r.insert(r.end(), {std::nextafter(half, 0.0f), half, std::nextafter(half, 1.0f), 0.0f, 1e-12f});
+    while (r.size() % 4 != 0) r.push_back(0.5f * kernel.h);
+    for (std::size_t i = 0; i < r.size(); i += 4) {
+        rivulet::simd::F4 w4, dw4;
+        kernel.at(rivulet::simd::load(&r[i]), w4, dw4);
+        float w[4], dw[4];
+        rivulet::simd::store(w, w4);
+        rivulet::simd::store(dw, dw4);
+        for (int lane = 0; lane < 4; ++lane) {
+            float ws = 0.0f, dws = 0.0f;
+            kernel.at(r[i + lane], ws, dws);
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(w[lane]), std::bit_cast<std::uint32_t>(ws)) << r[i + lane];
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(dw[lane]), std::bit_cast<std::uint32_t>(dws))
+                << r[i + lane];
+        }
+    }
+}

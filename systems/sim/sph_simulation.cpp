@@ -230,10 +230,10 @@ std::string sph_desc_problem(const SphDesc& d, std::size_t max_particles) {
 std::uint64_t sph_buffer_bytes(std::uint64_t cells, std::size_t max_particles) {
     const std::uint64_t n = std::max<std::size_t>(max_particles, 1);
     // 11 float columns, ids, sorted keys, store-order keys; counts and cursors per chunk and cell; starts
-    // and totals per cell. DFSPH: 2 list indices and 7 floats per particle, and the lists as first
-    // reserved (kListPairs pairs per particle).
+    // and totals per cell. DFSPH: 2 list indices and 11 floats per particle (4 of them the packed
+    // velocities), and the lists as first reserved (kListPairs pairs per particle).
     return n * 14 * 4 + (2 * default_chunks(max_particles) + 2) * cells * 4 +
-           n * (9 * 4 + kListPairs * sizeof(DfsphPair));
+           n * (13 * 4 + kListPairs * sizeof(DfsphPair));
 }
 
 SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std::size_t chunks)
@@ -298,6 +298,7 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
                         &k_den_sum_, &k_div_last_, &k_den_last_})
             a->reserve(n);
         source_.reserve(n);
+        v4_.reserve(4 * n);
         lists_.resize(chunks_);
         const std::size_t per_chunk = n / chunks_ + 1;
         for (DfsphChunkLists& l : lists_) l.pairs.reserve(per_chunk * kListPairs);
@@ -548,40 +549,41 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
                 k_[i] = warm * k_div_last_[source_[i]];
                 k_div_sum_[i] = 0.0f;
             }
+            dfsph_pack_velocities(b, e, svx_.span(n_), svy_.span(n_), svz_.span(n_), v4_.span(4 * n_));
             break;
         }
         case kDivergence:
-            chunk_error_[chunk] =
-                dfsph_residual(dfsph_context(), chunk, b, e, DfsphResidual::kDivergence, dt_sub_,
-                               svx_.span(n_), svy_.span(n_), svz_.span(n_), ratio_.span(n_), factor_.span(n_),
-                               k_div_sum_.span(n_), k_.span(n_));
+            chunk_error_[chunk] = dfsph_residual(dfsph_context(), chunk, b, e, DfsphResidual::kDivergence,
+                                                 dt_sub_, v4_.span(4 * n_), ratio_.span(n_), factor_.span(n_),
+                                                 k_div_sum_.span(n_), k_.span(n_));
             break;
         case kCorrect: {
             float* sum = solve_ == Solve::kDivergence ? k_div_sum_.data() : k_den_sum_.data();
             for (std::size_t i = b; i < e; ++i) sum[i] += k_[i];
             if (solve_ == Solve::kDivergence) {
                 dfsph_correct(dfsph_context(), chunk, b, e, k_.span(n_),
-                              {svx_.span(n_), svy_.span(n_), svz_.span(n_)});
+                              {svx_.span(n_), svy_.span(n_), svz_.span(n_), v4_.span(4 * n_)});
             } else {
                 dfsph_correct(dfsph_context(), chunk, b, e, k_.span(n_),
-                              {ax_.span(n_), ay_.span(n_), az_.span(n_)});
+                              {ax_.span(n_), ay_.span(n_), az_.span(n_), v4_.span(4 * n_)});
             }
             break;
         }
         case kPredict: {
             const float g[3] = {fluid_.gx, fluid_.gy, fluid_.gz};
-            chunk_v2_[chunk] = dfsph_predict(
-                dfsph_context(), chunk, b, e, dt_sub_, desc_.viscosity / desc_.rest_density, cubic_.h, g,
-                svx_.span(n_), svy_.span(n_), svz_.span(n_), {ax_.span(n_), ay_.span(n_), az_.span(n_)});
+            chunk_v2_[chunk] =
+                dfsph_predict(dfsph_context(), chunk, b, e, dt_sub_, desc_.viscosity / desc_.rest_density,
+                              cubic_.h, g, svx_.span(n_), svy_.span(n_), svz_.span(n_),
+                              {ax_.span(n_), ay_.span(n_), az_.span(n_), v4_.span(4 * n_)});
             const float warm = dt_last_ > 0.0f ? kWarmStart * dt_sub_ / dt_last_ : 0.0f;
             for (std::size_t i = b; i < e; ++i) k_[i] = warm * k_den_last_[source_[i]], k_den_sum_[i] = 0.0f;
             break;
         }
         case kDensityError:
             chunk_error_[chunk] =
-                dfsph_residual(dfsph_context(), chunk, b, e, DfsphResidual::kDensity, dt_sub_, ax_.span(n_),
-                               ay_.span(n_), az_.span(n_), ratio_.span(n_), factor_.span(n_),
-                               k_den_sum_.span(n_), k_.span(n_), std::min(1.0f, dt_sub_ / kDensityCatchUp));
+                dfsph_residual(dfsph_context(), chunk, b, e, DfsphResidual::kDensity, dt_sub_,
+                               v4_.span(4 * n_), ratio_.span(n_), factor_.span(n_), k_den_sum_.span(n_),
+                               k_.span(n_), std::min(1.0f, dt_sub_ / kDensityCatchUp));
             break;
         default:
             throw std::out_of_range("SphSimulation::run_phase: no such phase");

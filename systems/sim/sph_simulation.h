@@ -196,7 +196,8 @@ class SphSimulation {
     // index, this substep's and the last one's (read through source_, the index before the sort).
     AlignedArray<float> k_div_sum_, k_den_sum_, k_div_last_, k_den_last_;
     AlignedArray<std::uint32_t> source_;
-    float dt_last_ = 0;  // the last substep's length (0: nothing to warm-start from)
+    AlignedArray<float> v4_;  // the solve's velocities packed (DfsphVelocities::v4)
+    float dt_last_ = 0;       // the last substep's length (0: nothing to warm-start from)
     AlignedArray<double> chunk_error_;
 };
 
