@@ -16,10 +16,10 @@ inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_
         const DfsphPair& q = l.pairs[p];
         sum = sum + simd::load3(&q) * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
     }
-    alignas(16) float s[4], v[4];
+    alignas(16) float s[4];
     simd::store(s, sum);
-    simd::store(v, vi);
     float rate = (s[0] + s[1]) + s[2];
+    const float* v = &v4[4 * i];
     rate += c.wall_gx[i] * (v[0] - c.wall_velocity[0]) + c.wall_gy[i] * (v[1] - c.wall_velocity[1]) +
             c.wall_gz[i] * (v[2] - c.wall_velocity[2]);
     return rate;
