@@ -1,10 +1,17 @@
 #include "jobs/dfsph_lists.h"
 
+#include "jobs/cpu_dispatch.h"
 #include "jobs/simd4.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <numbers>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 namespace rivulet {
 
@@ -40,22 +47,84 @@ void DfsphWallTable::at(float s, float& b, float& a) const {
     a = (mass[k] - mass[k + 1]) * (static_cast<float>(kSamples) / h);
 }
 
-void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
-                       const SphWalls& walls, const DfsphWallTable& wall_table, float full_neighbours,
-                       std::size_t begin, std::size_t end, DfsphChunkLists& lists,
-                       const DfsphParticleOut& out) {
-    lists.pairs.clear();
+namespace {
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// Per 8-bit hit mask, the indices of its set lanes in order, four bits each: the compaction of eight
+// candidates is then one permute.
+constexpr std::array<std::uint32_t, 256> kCompactLanes = [] {
+    std::array<std::uint32_t, 256> table{};
+    for (unsigned mask = 0; mask < 256; ++mask) {
+        unsigned k = 0;
+        for (unsigned lane = 0; lane < 8; ++lane)
+            if (mask >> lane & 1u) table[mask] |= lane << (4 * k++);
+    }
+    return table;
+}();
+
+// Appends those of eight candidates from sorted particle j on (offsets d from the particle, lanes past
+// `valid` ignored) within h to cand / cand_r2 at `count`, in order: one permute compacts them.
+RIVULET_AVX2 inline void append_near_avx2(__m256 dx, __m256 dy, __m256 dz, __m256 h2, unsigned valid,
+                                          std::uint32_t j, std::uint32_t* cand, float* cand_r2, int& count) {
+    const __m256 r2 =
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+    const unsigned hits =
+        static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, h2, _CMP_LT_OQ))) & valid;
+    const __m256i order =
+        _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(static_cast<int>(kCompactLanes[hits])),
+                                           _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28)),
+                         _mm256_set1_epi32(7));
+    _mm256_storeu_ps(cand_r2 + count, _mm256_permutevar8x32_ps(r2, order));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cand + count),
+                        _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(j)), order));
+    count += std::popcount(hits);
+}
+
+// Appends the candidates of sorted particles [j, end) within h (r2 < h2) to cand / cand_r2 from
+// `count` on, eight at a time, in order, with the baseline's bits (r2 = dx dx + dy dy + dz dz, no FMA);
+// the row's last few by a masked load. `flush` empties the batch before it could overflow.
+template <class Flush>
+RIVULET_AVX2 inline void gather_row_avx2(const SphNeighbourhood& nb, float xi, float yi, float zi, float h2,
+                                         std::uint32_t j, std::uint32_t end, std::uint32_t* cand,
+                                         float* cand_r2, int& count, int batch, Flush& flush) {
+    const __m256 qx = _mm256_set1_ps(xi), qy = _mm256_set1_ps(yi), qz = _mm256_set1_ps(zi);
+    const __m256 reach = _mm256_set1_ps(h2);
+    for (; j + 8 <= end; j += 8) {
+        append_near_avx2(_mm256_sub_ps(qx, _mm256_loadu_ps(&nb.x[j])),
+                         _mm256_sub_ps(qy, _mm256_loadu_ps(&nb.y[j])),
+                         _mm256_sub_ps(qz, _mm256_loadu_ps(&nb.z[j])), reach, 0xffu, j, cand, cand_r2, count);
+        if (count > batch - 8) flush();
+    }
+    if (j < end) {
+        const unsigned left = end - j;
+        const __m256i in_row = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(left)),
+                                                  _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+        append_near_avx2(_mm256_sub_ps(qx, _mm256_maskload_ps(&nb.x[j], in_row)),
+                         _mm256_sub_ps(qy, _mm256_maskload_ps(&nb.y[j], in_row)),
+                         _mm256_sub_ps(qz, _mm256_maskload_ps(&nb.z[j], in_row)), reach, (1u << left) - 1u, j,
+                         cand, cand_r2, count);
+        if (count > batch - 8) flush();
+    }
+}
+#endif
+
+template <bool kAvx2>
+RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
+                                const SphWalls& walls, const DfsphWallTable& wall_table,
+                                float full_neighbours, std::size_t begin, std::size_t end,
+                                DfsphChunkLists& lists, const DfsphParticleOut& out) {
+    std::size_t used = 0;  // pairs written; the vector's size is its high-water mark
     const float h2 = kernel.h2, h = kernel.h;
     // Candidates within h, gathered branch-free from each row of cells (every lane is written, the count
     // advances by the hits), their kernel values four at a time, then the sums and pairs in candidate
     // order; the order (and so every sum's bits) is the cell search's.
     constexpr int kBatch = 64;
     const simd::F4 h2_4 = simd::splat(h2), tiny_4 = simd::splat(1e-9f * h), h_4 = simd::splat(h);
-    alignas(16) std::uint32_t cand[kBatch + 4];
-    alignas(16) float cand_r2[kBatch + 4], cand_w[kBatch + 4], cand_f[kBatch + 4];
+    alignas(32) std::uint32_t cand[kBatch + 8];
+    alignas(32) float cand_r2[kBatch + 8], cand_w[kBatch + 8], cand_f[kBatch + 8];
     for (std::size_t i = begin; i < end; ++i) {
         const float xi = nb.x[i], yi = nb.y[i], zi = nb.z[i];
-        out.pair_begin[i] = static_cast<std::uint32_t>(lists.pairs.size());
+        out.pair_begin[i] = static_cast<std::uint32_t>(used);
         float w_sum = 0.0f;
         float gx = 0.0f, gy = 0.0f, gz = 0.0f, g2 = 0.0f;
         int count = 0;
@@ -70,6 +139,11 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                 const simd::F4 g = simd::select_le(r, tiny_4, simd::splat(0.0f), dwdq / (h_4 * r));
                 simd::store(&cand_f[c], simd::splat(volume) * g);
             }
+            // Room for the batch (the vector only grows: in steady state nothing is allocated).
+            if (lists.pairs.size() < used + std::size_t(count))
+                lists.pairs.resize(
+                    std::max({used + std::size_t(count), 2 * lists.pairs.size(), lists.pairs.capacity()}));
+            DfsphPair* const pairs = lists.pairs.data();
             for (int c = 0; c < count; ++c) {
                 const std::uint32_t j = cand[c];
                 w_sum += cand_w[c];
@@ -77,7 +151,7 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                 const float f = cand_f[c], r2 = cand_r2[c];
                 const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
                 const DfsphPair pair{f * dx, f * dy, f * dz, j};
-                lists.pairs.push_back(pair);
+                pairs[used++] = pair;
                 gx += pair.gx, gy += pair.gy, gz += pair.gz;
                 g2 += f * f * r2;
             }
@@ -85,6 +159,13 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
         };
         sph_for_each_near_row(nb.grid, nb.cell_start, nb.key[i],
                               [&](std::uint32_t row_begin, std::uint32_t row_end) {
+#if defined(__x86_64__) && defined(__GNUC__)
+                                  if constexpr (kAvx2) {
+                                      gather_row_avx2(nb, xi, yi, zi, h2, row_begin, row_end, cand, cand_r2,
+                                                      count, kBatch, flush);
+                                      return;
+                                  }
+#endif
                                   std::uint32_t j = row_begin;
                                   // Four candidates at a time (jobs/simd4.h: the same bits as the scalar loop
                                   // below).
@@ -101,7 +182,7 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                                           cand_r2[count] = lanes[lane];
                                           count += int(hits >> lane & 1u);
                                       }
-                                      if (count > kBatch - 4) flush();
+                                      if (count > kBatch - 8) flush();
                                   }
                                   for (; j < row_end; ++j) {
                                       const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
@@ -109,11 +190,11 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                                       cand[count] = j;
                                       cand_r2[count] = r2;
                                       count += int(r2 < h2);
-                                      if (count > kBatch - 4) flush();
+                                      if (count > kBatch - 8) flush();
                                   }
                               });
         flush();
-        out.pair_end[i] = static_cast<std::uint32_t>(lists.pairs.size());
+        out.pair_end[i] = static_cast<std::uint32_t>(used);
         // The walls: per face within h, B(s) and grad B = -A(s) n with n the face's inward normal. Faces
         // meeting at an edge or corner combine as if the kernel were separable: the fluid's side keeps
         // prod (1 - B_f) of the kernel's mass, so the edge's overlap is not counted twice.
@@ -148,6 +229,39 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
         const float d = gx * gx + gy * gy + gz * gz + g2;
         out.factor[i] = d > 1e-6f / kernel.h2 ? 1.0f / d : 0.0f;  // V grad W ~ 1 / h
     }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+[[gnu::flatten]] RIVULET_AVX2 void build_lists_avx2(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
+                                                    float volume, const SphWalls& walls,
+                                                    const DfsphWallTable& wall_table, float full_neighbours,
+                                                    std::size_t begin, std::size_t end,
+                                                    DfsphChunkLists& lists, const DfsphParticleOut& out) {
+    build_lists<true>(nb, kernel, volume, walls, wall_table, full_neighbours, begin, end, lists, out);
+}
+#endif
+
+}  // namespace
+
+void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
+                       const SphWalls& walls, const DfsphWallTable& wall_table, float full_neighbours,
+                       std::size_t begin, std::size_t end, DfsphChunkLists& lists,
+                       const DfsphParticleOut& out) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2()) {
+        build_lists_avx2(nb, kernel, volume, walls, wall_table, full_neighbours, begin, end, lists, out);
+        return;
+    }
+#endif
+    dfsph_build_lists_baseline(nb, kernel, volume, walls, wall_table, full_neighbours, begin, end, lists,
+                               out);
+}
+
+void dfsph_build_lists_baseline(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
+                                const SphWalls& walls, const DfsphWallTable& wall_table,
+                                float full_neighbours, std::size_t begin, std::size_t end,
+                                DfsphChunkLists& lists, const DfsphParticleOut& out) {
+    build_lists<false>(nb, kernel, volume, walls, wall_table, full_neighbours, begin, end, lists, out);
 }
 
 float dfsph_lattice_volume(const SphCubicKernel& kernel, float d) {

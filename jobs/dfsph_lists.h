@@ -48,7 +48,8 @@ struct DfsphWallTable {
 };
 
 // One chunk's lists: particle i (of the chunk's range) has pairs [pair_begin[i], pair_end[i]) of the
-// chunk's vector.
+// chunk's vector. The vector keeps the size of the longest lists built so far; pairs past the last
+// particle's end are stale.
 struct DfsphChunkLists {
     std::vector<DfsphPair> pairs;
 };
@@ -65,6 +66,12 @@ void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel,
                        const SphWalls& walls, const DfsphWallTable& wall_table, float full_neighbours,
                        std::size_t begin, std::size_t end, DfsphChunkLists& lists,
                        const DfsphParticleOut& out);
+// The x86-64 baseline build of dfsph_build_lists, which it runs where the CPU lacks AVX2 (or
+// RIVULET_NO_AVX2 is set); tests compare the two builds byte for byte.
+void dfsph_build_lists_baseline(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
+                                const SphWalls& walls, const DfsphWallTable& wall_table,
+                                float full_neighbours, std::size_t begin, std::size_t end,
+                                DfsphChunkLists& lists, const DfsphParticleOut& out);
 
 // Rest volume of a particle such that the cubic spline density of an unbounded cubic lattice of spacing
 // d is exactly 1 (so rho0 V is its mass).

@@ -4,10 +4,14 @@
 // set error, conserving momentum exactly as the pairwise corrections promise.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <numeric>
 #include <vector>
 
+#include "jobs/cpu_dispatch.h"
 #include "jobs/dfsph_lists.h"
 #include "jobs/dfsph_solve.h"
 
@@ -136,6 +140,91 @@ TEST(DfsphJobs, DensitySolveDecompressesABlockAndConservesMomentum) {
     EXPECT_LT(vx[0], 0.0f);
     EXPECT_LT(vy[0], 0.0f);
     EXPECT_LT(vz[0], 0.0f);
+}
+
+// A jittered lattice in a walled box, sorted into cells of h: its spacing does not divide h, so rows have
+// every length and the AVX2 gather's full and masked loads both run.
+struct SortedCloud {
+    std::vector<float> x, y, z;
+    std::vector<std::uint32_t> key, cell_start;
+    SphGrid grid;
+    SortedCloud(int k, float d, float h) {
+        std::vector<float> px, py, pz;
+        std::uint32_t state = 12345u;
+        const auto jitter = [&] {
+            state = state * 1664525u + 1013904223u;
+            return (float(state >> 8) / 16777216.0f - 0.5f) * 0.6f * d;
+        };
+        for (int c = 0; c < k; ++c)
+            for (int b = 0; b < k; ++b)
+                for (int a = 0; a < k; ++a) {
+                    px.push_back(d * (float(a) + 0.5f) + jitter());
+                    py.push_back(d * (float(b) + 0.5f) + jitter());
+                    pz.push_back(d * (float(c) + 0.5f) + jitter());
+                }
+        grid.cell = h;
+        grid.origin = {-h, -h, -h};
+        grid.nx = grid.ny = grid.nz = static_cast<std::uint32_t>(std::ceil(float(k) * d / h)) + 2;
+        std::vector<std::uint32_t> order(px.size()), keys(px.size());
+        for (std::size_t i = 0; i < px.size(); ++i) keys[i] = grid.key(px[i], py[i], pz[i]);
+        std::iota(order.begin(), order.end(), 0u);
+        std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return keys[a] < keys[b]; });
+        for (std::uint32_t i : order)
+            x.push_back(px[i]), y.push_back(py[i]), z.push_back(pz[i]), key.push_back(keys[i]);
+        cell_start.assign(grid.cells() + 1, 0);
+        for (std::uint32_t kk : key) ++cell_start[kk + 1];
+        for (std::size_t c = 0; c < grid.cells(); ++c) cell_start[c + 1] += cell_start[c];
+    }
+    SphNeighbourhood view() const { return {grid, cell_start, key, x, y, z}; }
+    std::size_t size() const { return x.size(); }
+};
+
+template <class T>
+bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
+    const float d = 0.01f, h = 2.0f * d;
+    const int k = 12;
+    const SortedCloud cloud(k, 0.93f * d, h);
+    const SphCubicKernel kernel(h);
+    const float volume = dfsph_lattice_volume(kernel, d);
+    const DfsphWallTable table(kernel, volume, d);
+    SphWalls walls;
+    walls.enabled = true;
+    for (int a = 0; a < 3; ++a) walls.min[a] = 0.0f, walls.max[a] = float(k) * d;
+    const std::size_t n = cloud.size();
+    Lists fast(n), baseline(n);
+    // Two chunks, the second reusing nothing of the first.
+    for (auto [b, e] : {std::pair<std::size_t, std::size_t>{0, n / 3}, {n / 3, n}}) {
+        dfsph_build_lists(cloud.view(), kernel, volume, walls, table, 26.0f, b, e, fast.lists, fast.out());
+        dfsph_build_lists_baseline(cloud.view(), kernel, volume, walls, table, 26.0f, b, e, baseline.lists,
+                                   baseline.out());
+        for (std::size_t i = b; i < e; ++i) {
+            // Against brute force: exactly the others within h, in the cell search's order of cells.
+            std::vector<std::uint32_t> want, got;
+            for (std::uint32_t j = 0; j < n; ++j) {
+                const float dx = cloud.x[i] - cloud.x[j], dy = cloud.y[i] - cloud.y[j],
+                            dz = cloud.z[i] - cloud.z[j];
+                if (j != i && dx * dx + dy * dy + dz * dz < kernel.h2) want.push_back(j);
+            }
+            for (std::uint32_t p = fast.begin[i]; p < fast.end[i]; ++p) got.push_back(fast.lists.pairs[p].j);
+            std::sort(got.begin(), got.end());
+            ASSERT_EQ(got, want) << "particle " << i;
+            const std::size_t pairs = fast.end[i] - fast.begin[i];
+            ASSERT_EQ(pairs, baseline.end[i] - baseline.begin[i]);
+            ASSERT_EQ(0, std::memcmp(&fast.lists.pairs[fast.begin[i]],
+                                     &baseline.lists.pairs[baseline.begin[i]], pairs * sizeof(DfsphPair)))
+                << "particle " << i;
+        }
+    }
+    EXPECT_TRUE(same_bytes(fast.ratio, baseline.ratio));
+    EXPECT_TRUE(same_bytes(fast.factor, baseline.factor));
+    EXPECT_TRUE(same_bytes(fast.gx, baseline.gx) && same_bytes(fast.gy, baseline.gy) &&
+                same_bytes(fast.gz, baseline.gz));
+    EXPECT_TRUE(same_bytes(fast.support, baseline.support));
+    if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here: both runs were the baseline build";
 }
 
 }  // namespace
