@@ -2,11 +2,13 @@
 
 #include "jobs/cpu_dispatch.h"
 #include "jobs/simd4.h"
+#include "jobs/vector_lanes.h"
 
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -49,6 +51,20 @@ void DfsphWallTable::at(float s, float& b, float& a) const {
 
 namespace {
 
+using f4 = VectorLanes<4>::f;
+using f8 = VectorLanes<8>::f;
+using i8 = VectorLanes<8>::i;
+
+// A batch of candidates within h of particle i, compacted in cell-search order: index, squared
+// distance, offset x_i - x_j.
+struct Candidates {
+    static constexpr int kBatch = 64;  // flushed before a gather of eight could overflow it
+    alignas(32) std::uint32_t j[kBatch + 8];
+    alignas(32) float r2[kBatch + 8], dx[kBatch + 8], dy[kBatch + 8], dz[kBatch + 8];
+    int count = 0;
+    bool full() const { return count > kBatch - 8; }
+};
+
 #if defined(__x86_64__) && defined(__GNUC__)
 // Per 8-bit hit mask, the indices of its set lanes in order, four bits each: the compaction of eight
 // candidates is then one permute.
@@ -62,51 +78,176 @@ constexpr std::array<std::uint32_t, 256> kCompactLanes = [] {
     return table;
 }();
 
-// Appends those of eight candidates from sorted particle j on (offsets d from the particle, lanes past
-// `valid` ignored) within h to cand / cand_r2 at `count`, in order: one permute compacts them.
-RIVULET_AVX2 inline void append_near_avx2(__m256 dx, __m256 dy, __m256 dz, __m256 h2, unsigned valid,
-                                          std::uint32_t j, std::uint32_t* cand, float* cand_r2, int& count) {
+// Appends those of eight candidates (offsets d from particle `self`, indices `index`, lanes past
+// `valid` ignored) within h, itself excluded, to the batch in order: one permute per column compacts them.
+RIVULET_AVX2 inline void append_near_avx2(__m256 dx, __m256 dy, __m256 dz, __m256i index, __m256 h2,
+                                          unsigned valid, std::uint32_t self, Candidates& c) {
     const __m256 r2 =
         _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+    const unsigned itself = static_cast<unsigned>(_mm256_movemask_ps(
+        _mm256_castsi256_ps(_mm256_cmpeq_epi32(index, _mm256_set1_epi32(static_cast<int>(self))))));
     const unsigned hits =
-        static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, h2, _CMP_LT_OQ))) & valid;
+        static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, h2, _CMP_LT_OQ))) & valid & ~itself;
     const __m256i order =
         _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(static_cast<int>(kCompactLanes[hits])),
                                            _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28)),
                          _mm256_set1_epi32(7));
-    _mm256_storeu_ps(cand_r2 + count, _mm256_permutevar8x32_ps(r2, order));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cand + count),
-                        _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(j)), order));
-    count += std::popcount(hits);
+    _mm256_storeu_ps(c.r2 + c.count, _mm256_permutevar8x32_ps(r2, order));
+    _mm256_storeu_ps(c.dx + c.count, _mm256_permutevar8x32_ps(dx, order));
+    _mm256_storeu_ps(c.dy + c.count, _mm256_permutevar8x32_ps(dy, order));
+    _mm256_storeu_ps(c.dz + c.count, _mm256_permutevar8x32_ps(dz, order));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.j + c.count), _mm256_permutevar8x32_epi32(index, order));
+    c.count += std::popcount(hits);
 }
 
-// Appends the candidates of sorted particles [j, end) within h (r2 < h2) to cand / cand_r2 from
-// `count` on, eight at a time, in order, with the baseline's bits (r2 = dx dx + dy dy + dz dz, no FMA);
-// the row's last few by a masked load. `flush` empties the batch before it could overflow.
+// Appends the candidates among the near cells' particles within h of particle `self` at q (r2 < h2,
+// r2 = dx dx + dy dy + dz dz without FMA, as the baseline), eight at a time; the last few by a masked
+// load. `flush` empties the batch before it could overflow.
 template <class Flush>
-RIVULET_AVX2 inline void gather_row_avx2(const SphNeighbourhood& nb, float xi, float yi, float zi, float h2,
-                                         std::uint32_t j, std::uint32_t end, std::uint32_t* cand,
-                                         float* cand_r2, int& count, int batch, Flush& flush) {
-    const __m256 qx = _mm256_set1_ps(xi), qy = _mm256_set1_ps(yi), qz = _mm256_set1_ps(zi);
+RIVULET_AVX2 inline void gather_near_avx2(const DfsphNearCells& near, std::size_t n, const float q[3],
+                                          std::uint32_t self, float h2, Candidates& c, Flush& flush) {
+    const __m256 qx = _mm256_set1_ps(q[0]), qy = _mm256_set1_ps(q[1]), qz = _mm256_set1_ps(q[2]);
     const __m256 reach = _mm256_set1_ps(h2);
-    for (; j + 8 <= end; j += 8) {
-        append_near_avx2(_mm256_sub_ps(qx, _mm256_loadu_ps(&nb.x[j])),
-                         _mm256_sub_ps(qy, _mm256_loadu_ps(&nb.y[j])),
-                         _mm256_sub_ps(qz, _mm256_loadu_ps(&nb.z[j])), reach, 0xffu, j, cand, cand_r2, count);
-        if (count > batch - 8) flush();
+    const float *x = near.x.data(), *y = near.y.data(), *z = near.z.data();
+    const std::uint32_t* index = near.j.data();
+    std::size_t k = 0;
+    for (; k + 8 <= n; k += 8) {
+        append_near_avx2(_mm256_sub_ps(qx, _mm256_loadu_ps(x + k)), _mm256_sub_ps(qy, _mm256_loadu_ps(y + k)),
+                         _mm256_sub_ps(qz, _mm256_loadu_ps(z + k)),
+                         _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + k)), reach, 0xffu, self,
+                         c);
+        if (c.full()) flush();
     }
-    if (j < end) {
-        const unsigned left = end - j;
-        const __m256i in_row = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(left)),
-                                                  _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-        append_near_avx2(_mm256_sub_ps(qx, _mm256_maskload_ps(&nb.x[j], in_row)),
-                         _mm256_sub_ps(qy, _mm256_maskload_ps(&nb.y[j], in_row)),
-                         _mm256_sub_ps(qz, _mm256_maskload_ps(&nb.z[j], in_row)), reach, (1u << left) - 1u, j,
-                         cand, cand_r2, count);
-        if (count > batch - 8) flush();
+    if (k < n) {
+        const auto left = static_cast<unsigned>(n - k);
+        const __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(left)),
+                                              _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+        append_near_avx2(_mm256_sub_ps(qx, _mm256_maskload_ps(x + k, in)),
+                         _mm256_sub_ps(qy, _mm256_maskload_ps(y + k, in)),
+                         _mm256_sub_ps(qz, _mm256_maskload_ps(z + k, in)),
+                         _mm256_maskload_epi32(reinterpret_cast<const int*>(index + k), in), reach,
+                         (1u << left) - 1u, self, c);
+        if (c.full()) flush();
     }
 }
 #endif
+
+// The baseline's gather of the same candidates: four at a time, every lane written and the count
+// advanced by its hit.
+template <class Flush>
+RIVULET_INLINE void gather_near(const DfsphNearCells& near, std::size_t n, const float q[3],
+                                std::uint32_t self, float h2, Candidates& c, Flush& flush) {
+    const simd::F4 qx = simd::splat(q[0]), qy = simd::splat(q[1]), qz = simd::splat(q[2]);
+    const simd::F4 reach = simd::splat(h2);
+    std::size_t k = 0;
+    for (; k + 4 <= n; k += 4) {
+        const simd::F4 dx = qx - simd::load(&near.x[k]), dy = qy - simd::load(&near.y[k]),
+                       dz = qz - simd::load(&near.z[k]);
+        const simd::F4 r2 = dx * dx + dy * dy + dz * dz;
+        const unsigned hits = simd::less_mask(r2, reach);
+        alignas(16) float lr2[4], ldx[4], ldy[4], ldz[4];
+        simd::store(lr2, r2), simd::store(ldx, dx), simd::store(ldy, dy), simd::store(ldz, dz);
+        for (unsigned lane = 0; lane < 4; ++lane) {
+            const int m = c.count;
+            const std::uint32_t j = near.j[k + lane];
+            c.j[m] = j, c.r2[m] = lr2[lane], c.dx[m] = ldx[lane], c.dy[m] = ldy[lane], c.dz[m] = ldz[lane];
+            c.count += int((hits >> lane & 1u) & unsigned(j != self));
+        }
+        if (c.full()) flush();
+    }
+    for (; k < n; ++k) {
+        const float dx = q[0] - near.x[k], dy = q[1] - near.y[k], dz = q[2] - near.z[k];
+        const float r2 = dx * dx + dy * dy + dz * dz;
+        const int m = c.count;
+        const std::uint32_t j = near.j[k];
+        c.j[m] = j, c.r2[m] = r2, c.dx[m] = dx, c.dy[m] = dy, c.dz[m] = dz;
+        c.count += int(r2 < h2 && j != self);
+        if (c.full()) flush();
+    }
+}
+
+// The particles of the 27 cells around cell `key`, rows in sph_for_each_near_row's order, copied into
+// one run (every particle of that cell then scans the same run); returns their number.
+std::size_t gather_cells(const SphNeighbourhood& nb, std::uint32_t key, DfsphNearCells& near) {
+    std::size_t n = 0;
+    sph_for_each_near_row(nb.grid, nb.cell_start, key, [&](std::uint32_t b, std::uint32_t e) { n += e - b; });
+    if (near.x.size() < n) {
+        const std::size_t size = std::max(n, 2 * near.x.size());
+        near.x.resize(size), near.y.resize(size), near.z.resize(size), near.j.resize(size);
+    }
+    std::size_t k = 0;
+    sph_for_each_near_row(nb.grid, nb.cell_start, key, [&](std::uint32_t b, std::uint32_t e) {
+        const std::size_t len = e - b;
+        std::memcpy(&near.x[k], &nb.x[b], len * sizeof(float));
+        std::memcpy(&near.y[k], &nb.y[b], len * sizeof(float));
+        std::memcpy(&near.z[k], &nb.z[b], len * sizeof(float));
+        for (std::size_t m = 0; m < len; ++m) near.j[k + m] = b + static_cast<std::uint32_t>(m);
+        k += len;
+    });
+    return n;
+}
+
+// Helpers on eight lanes take and give them by reference: no 32-byte vector crosses a function boundary
+// of the baseline build.
+RIVULET_INLINE void load8(const float* p, f8& v) {
+    std::memcpy(&v, p, sizeof v);
+}
+RIVULET_INLINE void sqrt8(const f8& x, f8& r) {
+#if defined(__SSE2__)
+    const f4 lo = _mm_sqrt_ps(__builtin_shufflevector(x, x, 0, 1, 2, 3));  // correctly rounded, as std::sqrt
+    const f4 hi = _mm_sqrt_ps(__builtin_shufflevector(x, x, 4, 5, 6, 7));
+    r = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+#else
+    for (int k = 0; k < 8; ++k) r[k] = std::sqrt(x[k]);
+#endif
+}
+// out = m ? a : b per lane (m all ones or all zeros).
+RIVULET_INLINE void select8(const i8& m, const f8& a, const f8& b, f8& out) {
+    out = reinterpret_cast<f8>((m & reinterpret_cast<i8>(a)) | (~m & reinterpret_cast<i8>(b)));
+}
+// The eight lanes' sum in a fixed tree: (l0 + l4) + (l1 + l5) ... as pairs, then pairs of pairs.
+RIVULET_INLINE float sum8(const f8& a) {
+    const f4 s = __builtin_shufflevector(a, a, 0, 1, 2, 3) + __builtin_shufflevector(a, a, 4, 5, 6, 7);
+    return (s[0] + s[1]) + (s[2] + s[3]);
+}
+
+// The lane sums of one particle's pairs: sum W, sum V grad W (per axis), sum |V grad W|^2.
+struct PairSums {
+    f8 w{}, gx{}, gy{}, gz{}, g2{};
+};
+
+// Kernel values, V grad W_ij and the pairs of a batch, eight candidates at a time; each lane sums its
+// candidates (lanes past the batch add nothing), so a particle's sums depend only on its candidates'
+// order, never on the build or the thread.
+RIVULET_INLINE void flush_batch(const SphCubicKernel& kernel, float volume, Candidates& c, PairSums& sums,
+                                DfsphPair* pairs) {
+    const i8 lane = {0, 1, 2, 3, 4, 5, 6, 7};
+    const float tiny = 1e-9f * kernel.h;
+    // Lanes past the batch read zeros (whatever they held could be an infinity, and 0 inf is NaN).
+    for (int k = c.count; k % 8 != 0; ++k) c.r2[k] = c.dx[k] = c.dy[k] = c.dz[k] = 0.0f;
+    for (int k = 0; k < c.count; k += 8) {
+        const i8 valid = lane < (c.count - k);
+        f8 r2, r, dx, dy, dz;
+        load8(c.r2 + k, r2), sqrt8(r2, r);
+        load8(c.dx + k, dx), load8(c.dy + k, dy), load8(c.dz + k, dz);
+        const f8 q = r / kernel.h;
+        // The cubic spline (jobs/sph_cubic_kernel.h), both branches, then the one of each lane.
+        const f8 t = 1.0f - q;
+        const i8 inner = q <= 0.5f;
+        f8 w, dwdq, f;
+        select8(inner, kernel.k * (6.0f * q * q * q - 6.0f * q * q + 1.0f), (kernel.k * 2.0f) * t * t * t, w);
+        select8(inner, kernel.l * q * (3.0f * q - 2.0f), -kernel.l * t * t, dwdq);
+        select8(valid & (r > tiny), volume * (dwdq / (kernel.h * r)), f8{}, f);
+        select8(valid, w, f8{}, w);
+        const f8 gx = f * dx, gy = f * dy, gz = f * dz;
+        sums.w += w;
+        sums.gx += gx, sums.gy += gy, sums.gz += gz;
+        sums.g2 += f * f * r2;
+        alignas(32) float lx[8], ly[8], lz[8];
+        std::memcpy(lx, &gx, sizeof lx), std::memcpy(ly, &gy, sizeof ly), std::memcpy(lz, &gz, sizeof lz);
+        for (int l = 0; l < 8; ++l) pairs[k + l] = DfsphPair{lx[l], ly[l], lz[l], c.j[k + l]};
+    }
+}
 
 template <bool kAvx2>
 RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
@@ -114,94 +255,43 @@ RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel
                                 float full_neighbours, std::size_t begin, std::size_t end,
                                 DfsphChunkLists& lists, const DfsphParticleOut& out) {
     std::size_t used = 0;  // pairs written; the vector's size is its high-water mark
-    const float h2 = kernel.h2, h = kernel.h;
-    // Candidates within h, gathered branch-free from each row of cells (every lane is written, the count
-    // advances by the hits), their kernel values four at a time, then the sums and pairs in candidate
-    // order; the order (and so every sum's bits) is the cell search's.
-    constexpr int kBatch = 64;
-    const simd::F4 h2_4 = simd::splat(h2), tiny_4 = simd::splat(1e-9f * h), h_4 = simd::splat(h);
-    alignas(32) std::uint32_t cand[kBatch + 8];
-    alignas(32) float cand_r2[kBatch + 8], cand_w[kBatch + 8], cand_f[kBatch + 8];
+    const float h2 = kernel.h2;
+    Candidates batch;
+    std::uint32_t key = 0;
+    std::size_t near = 0;  // particles in the cells around `key`, in lists.near
     for (std::size_t i = begin; i < end; ++i) {
-        const float xi = nb.x[i], yi = nb.y[i], zi = nb.z[i];
+        const float q[3] = {nb.x[i], nb.y[i], nb.z[i]};
+        const auto self = static_cast<std::uint32_t>(i);
         out.pair_begin[i] = static_cast<std::uint32_t>(used);
-        float w_sum = 0.0f;
-        float gx = 0.0f, gy = 0.0f, gz = 0.0f, g2 = 0.0f;
-        int count = 0;
+        PairSums sums;
+        batch.count = 0;
         const auto flush = [&] {
-            for (int c = count; c % 4 != 0; ++c) cand_r2[c] = 0.0f;  // lanes past the candidates
-            for (int c = 0; c < count; c += 4) {
-                const simd::F4 r = simd::sqrt(simd::load(&cand_r2[c]));
-                simd::F4 w, dwdq;
-                kernel.at(r, w, dwdq);
-                simd::store(&cand_w[c], w);
-                // volume * (r <= 1e-9 h ? 0 : dwdq / (h r)), as the scalar form
-                const simd::F4 g = simd::select_le(r, tiny_4, simd::splat(0.0f), dwdq / (h_4 * r));
-                simd::store(&cand_f[c], simd::splat(volume) * g);
-            }
-            // Room for the batch (the vector only grows: in steady state nothing is allocated).
-            if (lists.pairs.size() < used + std::size_t(count))
-                lists.pairs.resize(
-                    std::max({used + std::size_t(count), 2 * lists.pairs.size(), lists.pairs.capacity()}));
-            DfsphPair* const pairs = lists.pairs.data();
-            for (int c = 0; c < count; ++c) {
-                const std::uint32_t j = cand[c];
-                w_sum += cand_w[c];
-                if (j == i) continue;
-                const float f = cand_f[c], r2 = cand_r2[c];
-                const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
-                const DfsphPair pair{f * dx, f * dy, f * dz, j};
-                pairs[used++] = pair;
-                gx += pair.gx, gy += pair.gy, gz += pair.gz;
-                g2 += f * f * r2;
-            }
-            count = 0;
+            // Whole groups of eight are written; the lanes past the batch are overwritten or stale.
+            const std::size_t room = used + std::size_t(batch.count) + 8;
+            if (lists.pairs.size() < room)
+                lists.pairs.resize(std::max({room, 2 * lists.pairs.size(), lists.pairs.capacity()}));
+            flush_batch(kernel, volume, batch, sums, lists.pairs.data() + used);
+            used += std::size_t(batch.count);
+            batch.count = 0;
         };
-        sph_for_each_near_row(nb.grid, nb.cell_start, nb.key[i],
-                              [&](std::uint32_t row_begin, std::uint32_t row_end) {
+        if (nb.key[i] != key || i == begin) key = nb.key[i], near = gather_cells(nb, key, lists.near);
 #if defined(__x86_64__) && defined(__GNUC__)
-                                  if constexpr (kAvx2) {
-                                      gather_row_avx2(nb, xi, yi, zi, h2, row_begin, row_end, cand, cand_r2,
-                                                      count, kBatch, flush);
-                                      return;
-                                  }
+        if constexpr (kAvx2)
+            gather_near_avx2(lists.near, near, q, self, h2, batch, flush);
+        else
 #endif
-                                  std::uint32_t j = row_begin;
-                                  // Four candidates at a time (jobs/simd4.h: the same bits as the scalar loop
-                                  // below).
-                                  for (; j + 4 <= row_end; j += 4) {
-                                      const simd::F4 dx = simd::splat(xi) - simd::load(&nb.x[j]);
-                                      const simd::F4 dy = simd::splat(yi) - simd::load(&nb.y[j]);
-                                      const simd::F4 dz = simd::splat(zi) - simd::load(&nb.z[j]);
-                                      const simd::F4 r2 = dx * dx + dy * dy + dz * dz;
-                                      const unsigned hits = simd::less_mask(r2, h2_4);
-                                      alignas(16) float lanes[4];
-                                      simd::store(lanes, r2);
-                                      for (unsigned lane = 0; lane < 4; ++lane) {
-                                          cand[count] = j + lane;
-                                          cand_r2[count] = lanes[lane];
-                                          count += int(hits >> lane & 1u);
-                                      }
-                                      if (count > kBatch - 8) flush();
-                                  }
-                                  for (; j < row_end; ++j) {
-                                      const float dx = xi - nb.x[j], dy = yi - nb.y[j], dz = zi - nb.z[j];
-                                      const float r2 = dx * dx + dy * dy + dz * dz;
-                                      cand[count] = j;
-                                      cand_r2[count] = r2;
-                                      count += int(r2 < h2);
-                                      if (count > kBatch - 8) flush();
-                                  }
-                              });
+            gather_near(lists.near, near, q, self, h2, batch, flush);
         flush();
         out.pair_end[i] = static_cast<std::uint32_t>(used);
+        float gx = sum8(sums.gx), gy = sum8(sums.gy), gz = sum8(sums.gz);
+        const float g2 = sum8(sums.g2);
+        const float w_sum = kernel.k + sum8(sums.w);  // W(0) = k: the particle itself
         // The walls: per face within h, B(s) and grad B = -A(s) n with n the face's inward normal. Faces
         // meeting at an edge or corner combine as if the kernel were separable: the fluid's side keeps
         // prod (1 - B_f) of the kernel's mass, so the edge's overlap is not counted twice.
         float wall = 0.0f;
         float b[3] = {0.0f, 0.0f, 0.0f};
         if (walls.enabled) {
-            const float q[3] = {xi, yi, zi};
             float keep[6], grad[6];
             int faces = 0;
             int axis_of[6];

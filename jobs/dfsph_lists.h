@@ -11,6 +11,11 @@
 // 2012) or volume maps (Bender et al. 2019) they count in the gradient sum only: the wall does not
 // answer i's pressure. Lists live in per-chunk vectors that
 // keep their capacity: in steady state nothing is allocated.
+// The build: per cell, the particles of the 27 cells around it are copied into one run, which each of the
+// cell's particles scans (eight at a time with AVX2 where the CPU has it, the hits compacted by a permute;
+// four at a time in the baseline build); the hits' kernel values and gradients then go eight lanes at a
+// time, each lane summing its share, the lanes added in a fixed tree at the end: the same bytes from
+// either build at any thread count.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -50,8 +55,15 @@ struct DfsphWallTable {
 // One chunk's lists: particle i (of the chunk's range) has pairs [pair_begin[i], pair_end[i]) of the
 // chunk's vector. The vector keeps the size of the longest lists built so far; pairs past the last
 // particle's end are stale.
+// The particles of the cells around one cell, in cell-search order: each particle of that cell scans
+// them as one run.
+struct DfsphNearCells {
+    std::vector<float> x, y, z;
+    std::vector<std::uint32_t> j;
+};
 struct DfsphChunkLists {
     std::vector<DfsphPair> pairs;
+    DfsphNearCells near;  // scratch of the build
 };
 struct DfsphParticleOut {
     std::span<std::uint32_t> pair_begin, pair_end;

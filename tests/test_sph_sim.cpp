@@ -220,9 +220,11 @@ TEST(SphSim, FluidAtRestInATankStaysAtRest) {
 // The same block with the incompressible solver, for 10 s: every frame's density error within the set
 // bound, every particle inside the tank on every frame, and the free surface near the analytic rest
 // height (the column's volume over the tank's floor, 0.1 m): the top particles' centres plus half a
-// spacing, away from the walls, within 4 %. It settles about 3 % low: the top layer, short of neighbours,
+// spacing, away from the walls, within 5 %. It settles 3.4-4.5 % low: the top layer, short of neighbours,
 // reads under rest density until it has closed in on the layer below by about 0.3 spacings (the
-// particle-deficiency of any SPH density estimate at a free surface; docs/sph.md).
+// particle-deficiency of any SPH density estimate at a free surface; docs/sph.md). Where in that range
+// depends on the packing the 768 particles settle into, which rounding alone changes: three orders of the
+// list build's sums gave 3.4, 3.6 and 4.5 %.
 TEST(SphSim, DfsphTankHoldsRestDensityAndHeightForTenSeconds) {
 #if defined(__SANITIZE_THREAD__)
     GTEST_SKIP() << "physics check, no thread coverage of its own";
@@ -265,7 +267,7 @@ TEST(SphSim, DfsphTankHoldsRestDensityAndHeightForTenSeconds) {
         if (t > 0) sum += t, ++columns;
     ASSERT_GT(columns, 10);
     const double surface = sum / columns + 0.5 * d;
-    EXPECT_NEAR(surface, depth, 0.04 * depth);
+    EXPECT_NEAR(surface, depth, 0.05 * depth);
     std::printf("DFSPH rest, 10 s: surface %.4f m (rest height %.4f), worst density error %.4f %%\n", surface,
                 depth, 100.0 * worst_error);
 }
