@@ -25,6 +25,22 @@ inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_
     return rate;
 }
 
+// sum_j (k_i + k_j) V grad W_ij + k_i grad B_i, the velocity change of particle i: the three sums in lanes
+// 0-2, each the scalar sum's operations in the same order.
+inline void correction_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
+                          std::span<const float> k, float d[3]) {
+    const float ki = k[i];
+    simd::F4 sum = simd::splat(0.0f);
+    for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
+        const DfsphPair& q = l.pairs[p];
+        sum = sum + simd::splat(ki + k[q.j]) * simd::load3(&q);
+    }
+    alignas(16) float lanes[4];
+    simd::store(lanes, sum);
+    d[0] = lanes[0] + ki * c.wall_gx[i], d[1] = lanes[1] + ki * c.wall_gy[i],
+    d[2] = lanes[2] + ki * c.wall_gz[i];
+}
+
 }  // namespace
 
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
@@ -52,18 +68,9 @@ void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, 
                    std::span<const float> k, const DfsphVelocities& v) {
     const DfsphChunkLists& l = c.lists[chunk];
     for (std::size_t i = begin; i < end; ++i) {
-        const float ki = k[i];
-        // The three sums in lanes 0-2, each the scalar sum's operations in the same order.
-        simd::F4 sum = simd::splat(0.0f);
-        for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
-            const DfsphPair& q = l.pairs[p];
-            sum = sum + simd::splat(ki + k[q.j]) * simd::load3(&q);
-        }
-        alignas(16) float d[4];
-        simd::store(d, sum);
-        float dx = d[0], dy = d[1], dz = d[2];
-        dx += ki * c.wall_gx[i], dy += ki * c.wall_gy[i], dz += ki * c.wall_gz[i];
-        const float vx = v.vx[i] - dx, vy = v.vy[i] - dy, vz = v.vz[i] - dz;
+        float d[3];
+        correction_of(c, l, i, k, d);
+        const float vx = v.vx[i] - d[0], vy = v.vy[i] - d[1], vz = v.vz[i] - d[2];
         v.vx[i] = vx, v.vy[i] = vy, v.vz[i] = vz;
         v.v4[4 * i] = vx, v.v4[4 * i + 1] = vy, v.v4[4 * i + 2] = vz;
     }
@@ -77,7 +84,8 @@ void dfsph_pack_velocities(std::size_t begin, std::size_t end, std::span<const f
 
 float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
                     float nu, float h, const float gravity[3], std::span<const float> vx,
-                    std::span<const float> vy, std::span<const float> vz, const DfsphVelocities& out) {
+                    std::span<const float> vy, std::span<const float> vz, std::span<const float> k_warm,
+                    const DfsphVelocities& out) {
     const DfsphChunkLists& l = c.lists[chunk];
     const float eps2 = 0.01f * h * h;
     const float scale = 10.0f * nu;
@@ -98,13 +106,16 @@ float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin,
             }
             ax *= scale, ay *= scale, az *= scale;
         }
-        const float ox = vxi + dt * (ax + gravity[0]);
-        const float oy = vyi + dt * (ay + gravity[1]);
-        const float oz = vzi + dt * (az + gravity[2]);
+        const float px = vxi + dt * (ax + gravity[0]);
+        const float py = vyi + dt * (ay + gravity[1]);
+        const float pz = vzi + dt * (az + gravity[2]);
+        const float v2 = px * px + py * py + pz * pz;
+        if (v2 > max_v2) max_v2 = v2;
+        float d[3];
+        correction_of(c, l, i, k_warm, d);  // the pairs again, while they are in cache
+        const float ox = px - d[0], oy = py - d[1], oz = pz - d[2];
         out.vx[i] = ox, out.vy[i] = oy, out.vz[i] = oz;
         out.v4[4 * i] = ox, out.v4[4 * i + 1] = oy, out.v4[4 * i + 2] = oz, out.v4[4 * i + 3] = 0.0f;
-        const float v2 = ox * ox + oy * oy + oz * oz;
-        if (v2 > max_v2) max_v2 = v2;
     }
     return max_v2;
 }

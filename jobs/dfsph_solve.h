@@ -59,10 +59,13 @@ void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, 
                    std::span<const float> k, const DfsphVelocities& v);
 
 // Non-pressure forces, explicit: gravity and viscosity (the SPH discretisation of nu lap v of Monaghan,
-// a_i = 10 nu sum_j V (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij); writes v*_i = v_i + dt a_i to
-// `out` (not in place: neighbours read v) and returns the chunk's largest |v*|^2.
+// a_i = 10 nu sum_j V (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij), and the density solve's warm
+// start: the correction of dfsph_correct with stiffness k_warm, in the same pass over the pairs (the same
+// bytes as a correction pass after it). Writes v*_i = v_i + dt a_i - correction_i to `out` (not in place:
+// neighbours read v) and returns the chunk's largest |v_i + dt a_i|^2.
 float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
                     float nu, float h, const float gravity[3], std::span<const float> vx,
-                    std::span<const float> vy, std::span<const float> vz, const DfsphVelocities& out);
+                    std::span<const float> vy, std::span<const float> vz, std::span<const float> k_warm,
+                    const DfsphVelocities& out);
 
 }  // namespace rivulet

@@ -423,8 +423,9 @@ std::size_t SphSimulation::next_phase() {
             }
             next = solve_ == Solve::kDivergence ? kDivergence : kDensityError;
             break;
-        case kPredict:
-            next = start_solve(Solve::kDensity);
+        case kPredict:  // the density solve's warm start is applied: its first residual comes next
+            solve_ = Solve::kDensity, iterations_ = 0, warm_ = false;
+            next = kDensityError;
             break;
         case kDensityError:
             next = solve_done(desc_.max_density_error) ? kIntegrate : kCorrect;
@@ -543,11 +544,14 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
                                        wall_gz_.span(n_),    support_.span(n_)};
             dfsph_build_lists(neighbourhood(), cubic_, volume_, walls_, wall_table_, full_neighbours_, b, e,
                               lists_[chunk], out);
+            // The warm starts: the divergence solve's is applied by a correction pass, the density solve's
+            // by the prediction (its sum starts as the stiffness it applies).
             const float warm = dt_last_ > 0.0f ? kWarmStart * dt_sub_ / dt_last_ : 0.0f;
             for (std::size_t i = b; i < e; ++i) {
                 rho_[i] = desc_.rest_density * ratio_[i];
                 k_[i] = warm * k_div_last_[source_[i]];
                 k_div_sum_[i] = 0.0f;
+                k_den_sum_[i] = warm * k_den_last_[source_[i]];
             }
             dfsph_pack_velocities(b, e, svx_.span(n_), svy_.span(n_), svz_.span(n_), v4_.span(4 * n_));
             break;
@@ -573,10 +577,8 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
             const float g[3] = {fluid_.gx, fluid_.gy, fluid_.gz};
             chunk_v2_[chunk] =
                 dfsph_predict(dfsph_context(), chunk, b, e, dt_sub_, desc_.viscosity / desc_.rest_density,
-                              cubic_.h, g, svx_.span(n_), svy_.span(n_), svz_.span(n_),
+                              cubic_.h, g, svx_.span(n_), svy_.span(n_), svz_.span(n_), k_den_sum_.span(n_),
                               {ax_.span(n_), ay_.span(n_), az_.span(n_), v4_.span(4 * n_)});
-            const float warm = dt_last_ > 0.0f ? kWarmStart * dt_sub_ / dt_last_ : 0.0f;
-            for (std::size_t i = b; i < e; ++i) k_[i] = warm * k_den_last_[source_[i]], k_den_sum_[i] = 0.0f;
             break;
         }
         case kDensityError:
