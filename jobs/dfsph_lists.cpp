@@ -214,17 +214,19 @@ RIVULET_INLINE float sum8(const f8& a) {
 // The lane sums of one particle's pairs: sum W, sum V grad W (per axis), sum |V grad W|^2.
 struct PairSums {
     f8 w{}, gx{}, gy{}, gz{}, g2{};
+    f8 cx{}, cy{}, cz{};  // sum (k_i + k_j) V grad W_ij, where a warm start is applied
 };
 
 // Kernel values, V grad W_ij and the pairs of a batch, eight candidates at a time; each lane sums its
 // candidates (lanes past the batch add nothing), so a particle's sums depend only on its candidates'
 // order, never on the build or the thread.
 RIVULET_INLINE void flush_batch(const SphCubicKernel& kernel, float volume, Candidates& c, PairSums& sums,
-                                DfsphPair* pairs) {
+                                DfsphPair* pairs, const float* k_warm, float ki) {
     const i8 lane = {0, 1, 2, 3, 4, 5, 6, 7};
     const float tiny = 1e-9f * kernel.h;
-    // Lanes past the batch read zeros (whatever they held could be an infinity, and 0 inf is NaN).
-    for (int k = c.count; k % 8 != 0; ++k) c.r2[k] = c.dx[k] = c.dy[k] = c.dz[k] = 0.0f;
+    // Lanes past the batch read zeros (whatever they held could be an infinity, and 0 inf is NaN) and
+    // index particle 0 (the warm start reads its stiffness).
+    for (int k = c.count; k % 8 != 0; ++k) c.r2[k] = c.dx[k] = c.dy[k] = c.dz[k] = 0.0f, c.j[k] = 0;
     for (int k = 0; k < c.count; k += 8) {
         const i8 valid = lane < (c.count - k);
         f8 r2, r, dx, dy, dz;
@@ -243,6 +245,13 @@ RIVULET_INLINE void flush_batch(const SphCubicKernel& kernel, float volume, Cand
         sums.w += w;
         sums.gx += gx, sums.gy += gy, sums.gz += gz;
         sums.g2 += f * f * r2;
+        if (k_warm != nullptr) {
+            const std::uint32_t* j = c.j + k;  // lanes past the batch index particle 0; their f is 0
+            const f8 kj = {k_warm[j[0]], k_warm[j[1]], k_warm[j[2]], k_warm[j[3]],
+                           k_warm[j[4]], k_warm[j[5]], k_warm[j[6]], k_warm[j[7]]};
+            const f8 kij = ki + kj;
+            sums.cx += kij * gx, sums.cy += kij * gy, sums.cz += kij * gz;
+        }
         alignas(32) float lx[8], ly[8], lz[8];
         std::memcpy(lx, &gx, sizeof lx), std::memcpy(ly, &gy, sizeof ly), std::memcpy(lz, &gz, sizeof lz);
         for (int l = 0; l < 8; ++l) pairs[k + l] = DfsphPair{lx[l], ly[l], lz[l], c.j[k + l]};
@@ -257,6 +266,7 @@ RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel
     std::size_t used = 0;  // pairs written; the vector's size is its high-water mark
     const float h2 = kernel.h2;
     Candidates batch;
+    const float* const k_warm = out.k_warm.empty() ? nullptr : out.k_warm.data();
     std::uint32_t key = 0;
     std::size_t near = 0;  // particles in the cells around `key`, in lists.near
     for (std::size_t i = begin; i < end; ++i) {
@@ -264,13 +274,14 @@ RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel
         const auto self = static_cast<std::uint32_t>(i);
         out.pair_begin[i] = static_cast<std::uint32_t>(used);
         PairSums sums;
+        const float ki = k_warm != nullptr ? k_warm[i] : 0.0f;
         batch.count = 0;
         const auto flush = [&] {
             // Whole groups of eight are written; the lanes past the batch are overwritten or stale.
             const std::size_t room = used + std::size_t(batch.count) + 8;
             if (lists.pairs.size() < room)
                 lists.pairs.resize(std::max({room, 2 * lists.pairs.size(), lists.pairs.capacity()}));
-            flush_batch(kernel, volume, batch, sums, lists.pairs.data() + used);
+            flush_batch(kernel, volume, batch, sums, lists.pairs.data() + used, k_warm, ki);
             used += std::size_t(batch.count);
             batch.count = 0;
         };
@@ -318,6 +329,13 @@ RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel
         out.support[i] = static_cast<float>(out.pair_end[i] - out.pair_begin[i]) + wall * full_neighbours;
         const float d = gx * gx + gy * gy + gz * gz + g2;
         out.factor[i] = d > 1e-6f / kernel.h2 ? 1.0f / d : 0.0f;  // V grad W ~ 1 / h
+        if (k_warm != nullptr) {  // v_i -= sum_j (k_i + k_j) V grad W_ij + k_i grad B_i
+            const float vx = out.vx[i] - (sum8(sums.cx) + ki * b[0]);
+            const float vy = out.vy[i] - (sum8(sums.cy) + ki * b[1]);
+            const float vz = out.vz[i] - (sum8(sums.cz) + ki * b[2]);
+            out.vx[i] = vx, out.vy[i] = vy, out.vz[i] = vz;
+            out.v4[4 * i] = vx, out.v4[4 * i + 1] = vy, out.v4[4 * i + 2] = vz, out.v4[4 * i + 3] = 0.0f;
+        }
     }
 }
 

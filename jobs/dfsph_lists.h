@@ -70,6 +70,11 @@ struct DfsphParticleOut {
     std::span<float> density_ratio, factor;
     std::span<float> wall_gx, wall_gy, wall_gz;  // grad B_i
     std::span<float> support;  // neighbours plus the wall's share (B_i times a full neighbourhood)
+    // Optional, the divergence solve's warm start (jobs/dfsph_solve.h): with stiffness k_warm (every
+    // particle's, set before the build) each particle's velocity gets dfsph_correct's correction, summed
+    // in the build's lanes, and is written to vx, vy, vz and packed to v4 (x, y, z, 0): no pass of its own.
+    std::span<const float> k_warm = {};
+    std::span<float> vx = {}, vy = {}, vz = {}, v4 = {};
 };
 
 // Builds the lists of sorted particles [begin, end) into `lists` (cleared first) and writes their

@@ -46,6 +46,7 @@ int share_of(std::size_t phase) {
         case SphSimulation::kGridCursors:
         case SphSimulation::kGridOffsets:
         case SphSimulation::kGridScatter:
+        case SphSimulation::kWarmStart:
         case SphSimulation::kNeighbours:
         case SphSimulation::kDensity:
             return 0;

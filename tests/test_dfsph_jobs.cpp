@@ -227,5 +227,61 @@ TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
     if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here: both runs were the baseline build";
 }
 
+// The divergence solve's warm start folded into the build: each velocity changes by dfsph_correct's
+// correction with the given stiffness (the same sum in another order: within float rounding), and both
+// builds give the same bytes.
+TEST(DfsphJobs, TheBuildAppliesTheWarmStartAsACorrectionPass) {
+    const float d = 0.01f, h = 2.0f * d;
+    const int k = 10;
+    const SortedCloud cloud(k, 0.93f * d, h);
+    const SphCubicKernel kernel(h);
+    const float volume = dfsph_lattice_volume(kernel, d);
+    const DfsphWallTable table(kernel, volume, d);
+    SphWalls walls;
+    walls.enabled = true;
+    for (int a = 0; a < 3; ++a) walls.min[a] = 0.0f, walls.max[a] = float(k) * 0.93f * d;
+    const std::size_t n = cloud.size();
+    std::vector<float> stiffness(n), vx0(n), vy0(n), vz0(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        stiffness[i] = 1e-6f * float((i * 7919) % 101);
+        vx0[i] = 0.01f * float(i % 13), vy0[i] = -0.02f * float(i % 7), vz0[i] = 0.005f * float(i % 5);
+    }
+    struct Run {
+        Lists l;
+        std::vector<float> vx, vy, vz, v4;
+        Run(std::size_t n, const std::vector<float>& x, const std::vector<float>& y,
+            const std::vector<float>& z)
+            : l(n), vx(x), vy(y), vz(z), v4(4 * n) {}
+    };
+    Run fast(n, vx0, vy0, vz0), baseline(n, vx0, vy0, vz0);
+    for (Run* r : {&fast, &baseline}) {
+        DfsphParticleOut out = r->l.out();
+        out.k_warm = stiffness, out.vx = r->vx, out.vy = r->vy, out.vz = r->vz, out.v4 = r->v4;
+        if (r == &fast)
+            dfsph_build_lists(cloud.view(), kernel, volume, walls, table, 26.0f, 0, n, r->l.lists, out);
+        else
+            dfsph_build_lists_baseline(cloud.view(), kernel, volume, walls, table, 26.0f, 0, n, r->l.lists,
+                                       out);
+    }
+    EXPECT_TRUE(same_bytes(fast.vx, baseline.vx) && same_bytes(fast.vy, baseline.vy) &&
+                same_bytes(fast.vz, baseline.vz) && same_bytes(fast.v4, baseline.v4));
+    // Against the correction pass over the lists just built.
+    const Lists& l = fast.l;
+    const DfsphContext c{cloud.x, cloud.y, cloud.z, {&l.lists, 1}, l.begin,   l.end,
+                         l.gx,    l.gy,    l.gz,    l.support,     {0, 0, 0}, 20.0f};
+    std::vector<float> vx = vx0, vy = vy0, vz = vz0, v4(4 * n);
+    dfsph_correct(c, 0, 0, n, stiffness, {vx, vy, vz, v4});
+    double largest = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        largest = std::max({largest, std::abs(double(vx[i]) - vx0[i]), std::abs(double(vy[i]) - vy0[i])});
+        EXPECT_NEAR(fast.vx[i], vx[i], 1e-5f) << i;
+        EXPECT_NEAR(fast.vy[i], vy[i], 1e-5f) << i;
+        EXPECT_NEAR(fast.vz[i], vz[i], 1e-5f) << i;
+        EXPECT_EQ(fast.v4[4 * i], fast.vx[i]);
+        EXPECT_EQ(fast.v4[4 * i + 3], 0.0f);
+    }
+    EXPECT_GT(largest, 1e-3) << "the correction moves the velocities";
+}
+
 }  // namespace
 }  // namespace rivulet

@@ -145,7 +145,7 @@ constexpr std::uint64_t kListPairs = 40;
 constexpr float kDensityCatchUp = 0.004f;
 // Share of the last substep's summed stiffness each solve starts from (1 overshoots: the stiffness of a
 // substep includes its own error's correction, which the next one does not need again).
-constexpr float kWarmStart = 0.8f;
+constexpr float kWarmStartShare = 0.8f;
 
 std::size_t default_chunks(std::size_t max_particles) {
     return std::clamp<std::size_t>((max_particles + 1023) / 1024, 1, 64);
@@ -385,12 +385,6 @@ bool SphSimulation::solve_done(float max_error_percent) {
     return done;
 }
 
-std::size_t SphSimulation::start_solve(Solve solve) {
-    solve_ = solve, iterations_ = 0, warm_ = dt_last_ > 0.0f;
-    if (warm_) return kCorrect;  // the warm start's correction comes first
-    return solve == Solve::kDivergence ? kDivergence : kDensityError;
-}
-
 std::size_t SphSimulation::next_phase() {
     const bool dfsph = desc_.solver == SphSolver::kDfsph;
     std::size_t next = kPhaseCount;
@@ -406,25 +400,22 @@ std::size_t SphSimulation::next_phase() {
             next = substep_ < substeps_ ? kSubstep : kPhaseCount;
             break;
         case kGridScatter:
-            next = dfsph ? kNeighbours : kDensity;
+            next = dfsph ? kWarmStart : kDensity;
             break;
-        case kNeighbours:
-            next = start_solve(Solve::kDivergence);
+        case kNeighbours:  // the divergence solve's warm start is applied: its first residual comes next
+            solve_ = Solve::kDivergence, iterations_ = 0;
+            next = kDivergence;
             break;
         case kDivergence:
             next = solve_done(desc_.max_divergence_error) ? kPredict : kCorrect;
             break;
         case kCorrect:
-            if (warm_) {
-                warm_ = false;
-            } else {
-                ++iterations_;
-                ++(solve_ == Solve::kDivergence ? divergence_iterations_ : density_iterations_);
-            }
+            ++iterations_;
+            ++(solve_ == Solve::kDivergence ? divergence_iterations_ : density_iterations_);
             next = solve_ == Solve::kDivergence ? kDivergence : kDensityError;
             break;
         case kPredict:  // the density solve's warm start is applied: its first residual comes next
-            solve_ = Solve::kDensity, iterations_ = 0, warm_ = false;
+            solve_ = Solve::kDensity, iterations_ = 0;
             next = kDensityError;
             break;
         case kDensityError:
@@ -538,22 +529,25 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
                                              boundary_, ps.spans());
             break;
         }
-        case kNeighbours: {
-            const DfsphParticleOut out{pair_begin_.span(n_), pair_end_.span(n_), ratio_.span(n_),
-                                       factor_.span(n_),     wall_gx_.span(n_),  wall_gy_.span(n_),
-                                       wall_gz_.span(n_),    support_.span(n_)};
-            dfsph_build_lists(neighbourhood(), cubic_, volume_, walls_, wall_table_, full_neighbours_, b, e,
-                              lists_[chunk], out);
-            // The warm starts: the divergence solve's is applied by a correction pass, the density solve's
-            // by the prediction (its sum starts as the stiffness it applies).
-            const float warm = dt_last_ > 0.0f ? kWarmStart * dt_sub_ / dt_last_ : 0.0f;
+        case kWarmStart: {
+            // The last substep's stiffness, scaled to this step, as each solve's starting sum: the list
+            // build applies the divergence solve's, the prediction the density solve's.
+            const float warm = dt_last_ > 0.0f ? kWarmStartShare * dt_sub_ / dt_last_ : 0.0f;
             for (std::size_t i = b; i < e; ++i) {
-                rho_[i] = desc_.rest_density * ratio_[i];
-                k_[i] = warm * k_div_last_[source_[i]];
-                k_div_sum_[i] = 0.0f;
+                k_div_sum_[i] = warm * k_div_last_[source_[i]];
                 k_den_sum_[i] = warm * k_den_last_[source_[i]];
             }
-            dfsph_pack_velocities(b, e, svx_.span(n_), svy_.span(n_), svz_.span(n_), v4_.span(4 * n_));
+            break;
+        }
+        case kNeighbours: {
+            DfsphParticleOut out{pair_begin_.span(n_), pair_end_.span(n_), ratio_.span(n_),
+                                 factor_.span(n_),     wall_gx_.span(n_),  wall_gy_.span(n_),
+                                 wall_gz_.span(n_),    support_.span(n_)};
+            out.k_warm = k_div_sum_.span(n_);
+            out.vx = svx_.span(n_), out.vy = svy_.span(n_), out.vz = svz_.span(n_), out.v4 = v4_.span(4 * n_);
+            dfsph_build_lists(neighbourhood(), cubic_, volume_, walls_, wall_table_, full_neighbours_, b, e,
+                              lists_[chunk], out);
+            for (std::size_t i = b; i < e; ++i) rho_[i] = desc_.rest_density * ratio_[i];
             break;
         }
         case kDivergence:

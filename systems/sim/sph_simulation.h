@@ -71,7 +71,8 @@ class SphSimulation {
         kDensity,       // parallel: density and pressure
         kForces,        // parallel: accelerations
         kIntegrate,     // parallel: velocities, positions, boundaries; written back into the ParticleSet
-        kNeighbours,    // DFSPH, parallel: neighbour lists, density ratio, factor
+        kWarmStart,     // DFSPH, parallel: both solves' warm-start stiffness, into the new order
+        kNeighbours,    // DFSPH, parallel: neighbour lists, density ratio, factor, the divergence warm start
         kDivergence,    // DFSPH, parallel: divergence solve residual
         kCorrect,       // DFSPH, parallel: velocity correction of either solve
         kPredict,       // DFSPH, parallel: gravity and viscosity
@@ -133,6 +134,7 @@ class SphSimulation {
                                                                 {"sph.density", true},
                                                                 {"sph.forces", true},
                                                                 {"sph.integrate", true},
+                                                                {"sph.warm_start", true},
                                                                 {"sph.neighbours", true},
                                                                 {"sph.divergence", true},
                                                                 {"sph.correct", true},
@@ -146,7 +148,6 @@ class SphSimulation {
     DfsphContext dfsph_context() const;
     bool solve_done(float max_error_percent);
     // Starts a solve: its first phase (the warm start's correction when there is one, else its residual).
-    std::size_t start_solve(Solve solve);
 
     SphDesc desc_;
     SphFluidParams fluid_;
@@ -166,7 +167,6 @@ class SphSimulation {
     float dt_sub_ = 0;
     std::size_t last_phase_ = kPhaseCount;
     Solve solve_ = Solve::kDivergence;
-    bool warm_ = false;  // the next kCorrect applies the warm start
     int iterations_ = 0;
     int divergence_iterations_ = 0, density_iterations_ = 0;
     double density_error_ = 0;
