@@ -184,30 +184,42 @@ bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
-TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
-    const float d = 0.01f, h = 2.0f * d;
-    const int k = 12;
-    const SortedCloud cloud(k, 0.93f * d, h);
-    const SphCubicKernel kernel(h);
-    const float volume = dfsph_lattice_volume(kernel, d);
-    const DfsphWallTable table(kernel, volume, d);
+// The jittered cloud in a tank that just holds it, with the kernel and wall table of spacing d.
+struct WalledCloud {
+    static constexpr float d = 0.01f, h = 2.0f * d;
+    SortedCloud cloud;
+    SphCubicKernel kernel{h};
+    float volume = dfsph_lattice_volume(kernel, d);
+    DfsphWallTable table{kernel, volume, d};
     SphWalls walls;
-    walls.enabled = true;
-    for (int a = 0; a < 3; ++a) walls.min[a] = 0.0f, walls.max[a] = float(k) * d;
+    explicit WalledCloud(int k) : cloud(k, 0.93f * d, h) {
+        walls.enabled = true;
+        for (int a = 0; a < 3; ++a) walls.min[a] = 0.0f, walls.max[a] = float(k) * 0.93f * d;
+    }
+    void build(Lists& l, const DfsphParticleOut& out, std::size_t b, std::size_t e, bool baseline) const {
+        if (baseline)
+            dfsph_build_lists_baseline(cloud.view(), kernel, volume, walls, table, 26.0f, b, e, l.lists, out);
+        else
+            dfsph_build_lists(cloud.view(), kernel, volume, walls, table, 26.0f, b, e, l.lists, out);
+    }
+};
+
+TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
+    const WalledCloud w(12);
+    const SortedCloud& cloud = w.cloud;
     const std::size_t n = cloud.size();
     Lists fast(n), baseline(n);
     // Two chunks, the second reusing nothing of the first.
     for (auto [b, e] : {std::pair<std::size_t, std::size_t>{0, n / 3}, {n / 3, n}}) {
-        dfsph_build_lists(cloud.view(), kernel, volume, walls, table, 26.0f, b, e, fast.lists, fast.out());
-        dfsph_build_lists_baseline(cloud.view(), kernel, volume, walls, table, 26.0f, b, e, baseline.lists,
-                                   baseline.out());
+        w.build(fast, fast.out(), b, e, false);
+        w.build(baseline, baseline.out(), b, e, true);
         for (std::size_t i = b; i < e; ++i) {
             // Against brute force: exactly the others within h, in the cell search's order of cells.
             std::vector<std::uint32_t> want, got;
             for (std::uint32_t j = 0; j < n; ++j) {
                 const float dx = cloud.x[i] - cloud.x[j], dy = cloud.y[i] - cloud.y[j],
                             dz = cloud.z[i] - cloud.z[j];
-                if (j != i && dx * dx + dy * dy + dz * dz < kernel.h2) want.push_back(j);
+                if (j != i && dx * dx + dy * dy + dz * dz < w.kernel.h2) want.push_back(j);
             }
             for (std::uint32_t p = fast.begin[i]; p < fast.end[i]; ++p) got.push_back(fast.lists.pairs[p].j);
             std::sort(got.begin(), got.end());
@@ -231,15 +243,8 @@ TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
 // correction with the given stiffness (the same sum in another order: within float rounding), and both
 // builds give the same bytes.
 TEST(DfsphJobs, TheBuildAppliesTheWarmStartAsACorrectionPass) {
-    const float d = 0.01f, h = 2.0f * d;
-    const int k = 10;
-    const SortedCloud cloud(k, 0.93f * d, h);
-    const SphCubicKernel kernel(h);
-    const float volume = dfsph_lattice_volume(kernel, d);
-    const DfsphWallTable table(kernel, volume, d);
-    SphWalls walls;
-    walls.enabled = true;
-    for (int a = 0; a < 3; ++a) walls.min[a] = 0.0f, walls.max[a] = float(k) * 0.93f * d;
+    const WalledCloud w(10);
+    const SortedCloud& cloud = w.cloud;
     const std::size_t n = cloud.size();
     std::vector<float> stiffness(n), vx0(n), vy0(n), vz0(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -257,11 +262,7 @@ TEST(DfsphJobs, TheBuildAppliesTheWarmStartAsACorrectionPass) {
     for (Run* r : {&fast, &baseline}) {
         DfsphParticleOut out = r->l.out();
         out.k_warm = stiffness, out.vx = r->vx, out.vy = r->vy, out.vz = r->vz, out.v4 = r->v4;
-        if (r == &fast)
-            dfsph_build_lists(cloud.view(), kernel, volume, walls, table, 26.0f, 0, n, r->l.lists, out);
-        else
-            dfsph_build_lists_baseline(cloud.view(), kernel, volume, walls, table, 26.0f, 0, n, r->l.lists,
-                                       out);
+        w.build(r->l, out, 0, n, r == &baseline);
     }
     EXPECT_TRUE(same_bytes(fast.vx, baseline.vx) && same_bytes(fast.vy, baseline.vy) &&
                 same_bytes(fast.vz, baseline.vz) && same_bytes(fast.v4, baseline.v4));
