@@ -232,13 +232,8 @@ RIVULET_INLINE void flush_batch(const SphCubicKernel& kernel, float volume, Cand
         f8 r2, r, dx, dy, dz;
         load8(c.r2 + k, r2), sqrt8(r2, r);
         load8(c.dx + k, dx), load8(c.dy + k, dy), load8(c.dz + k, dz);
-        const f8 q = r / kernel.h;
-        // The cubic spline (jobs/sph_cubic_kernel.h), both branches, then the one of each lane.
-        const f8 t = 1.0f - q;
-        const i8 inner = q <= 0.5f;
         f8 w, dwdq, f;
-        select8(inner, kernel.k * (6.0f * q * q * q - 6.0f * q * q + 1.0f), (kernel.k * 2.0f) * t * t * t, w);
-        select8(inner, kernel.l * q * (3.0f * q - 2.0f), -kernel.l * t * t, dwdq);
+        kernel.at(r, w, dwdq);
         select8(valid & (r > tiny), volume * (dwdq / (kernel.h * r)), f8{}, f);
         select8(valid, w, f8{}, w);
         const f8 gx = f * dx, gy = f * dy, gz = f * dz;

@@ -52,15 +52,15 @@ struct DfsphWallTable {
     void at(float s, float& b, float& a) const;
 };
 
-// One chunk's lists: particle i (of the chunk's range) has pairs [pair_begin[i], pair_end[i]) of the
-// chunk's vector. The vector keeps the size of the longest lists built so far; pairs past the last
-// particle's end are stale.
 // The particles of the cells around one cell, in cell-search order: each particle of that cell scans
 // them as one run.
 struct DfsphNearCells {
     std::vector<float> x, y, z;
     std::vector<std::uint32_t> j;
 };
+// One chunk's lists: particle i (of the chunk's range) has pairs [pair_begin[i], pair_end[i]) of the
+// chunk's vector. The vector keeps the size of the longest lists built so far; pairs past the last
+// particle's end are stale.
 struct DfsphChunkLists {
     std::vector<DfsphPair> pairs;
     DfsphNearCells near;  // scratch of the build
@@ -77,7 +77,7 @@ struct DfsphParticleOut {
     std::span<float> vx = {}, vy = {}, vz = {}, v4 = {};
 };
 
-// Builds the lists of sorted particles [begin, end) into `lists` (cleared first) and writes their
+// Builds the lists of sorted particles [begin, end) into `lists` (from its start) and writes their
 // per-particle values. `full_neighbours`: neighbours of a particle inside an unbounded lattice.
 void dfsph_build_lists(const SphNeighbourhood& nb, const SphCubicKernel& kernel, float volume,
                        const SphWalls& walls, const DfsphWallTable& wall_table, float full_neighbours,

@@ -76,12 +76,6 @@ void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, 
     }
 }
 
-void dfsph_pack_velocities(std::size_t begin, std::size_t end, std::span<const float> vx,
-                           std::span<const float> vy, std::span<const float> vz, std::span<float> v4) {
-    for (std::size_t i = begin; i < end; ++i)
-        v4[4 * i] = vx[i], v4[4 * i + 1] = vy[i], v4[4 * i + 2] = vz[i], v4[4 * i + 3] = 0.0f;
-}
-
 float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
                     float nu, float h, const float gravity[3], std::span<const float> vx,
                     std::span<const float> vy, std::span<const float> vz, std::span<const float> k_warm,

@@ -32,10 +32,6 @@ struct DfsphVelocities {
     std::span<float> v4;
 };
 
-// v4[4 i ..] = (vx[i], vy[i], vz[i], +0) for i in [begin, end).
-void dfsph_pack_velocities(std::size_t begin, std::size_t end, std::span<const float> vx,
-                           std::span<const float> vy, std::span<const float> vz, std::span<float> v4);
-
 // What every pass reads: sorted positions, the lists, the walls' gradients and velocity.
 struct DfsphContext {
     std::span<const float> x, y, z;

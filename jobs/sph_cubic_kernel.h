@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "jobs/simd4.h"
+#include "jobs/vector_lanes.h"
 
 namespace rivulet {
 
@@ -46,6 +47,21 @@ struct SphCubicKernel {
         const simd::F4 half = simd::splat(0.5f);
         w_value = simd::select_le(q, half, simd::splat(k) * w_in, w_out);
         dwdq = simd::select_le(q, half, dw_in, dw_out);
+    }
+    // at() for eight distances in GCC/Clang vector lanes (jobs/vector_lanes.h), by reference so no 32-byte
+    // vector crosses a call of the baseline build; each lane the scalar call's bits.
+    void at(const VectorLanes<8>::f& r, VectorLanes<8>::f& w_value, VectorLanes<8>::f& dwdq) const {
+        using F = VectorLanes<8>::f;
+        using I = VectorLanes<8>::i;
+        const F q = r / h;
+        const F t = 1.0f - q;
+        const I inner = q <= 0.5f;
+        const F w_in = k * (6.0f * q * q * q - 6.0f * q * q + 1.0f), w_out = (k * 2.0f) * t * t * t;
+        const F dw_in = l * q * (3.0f * q - 2.0f), dw_out = -l * t * t;
+        w_value =
+            reinterpret_cast<F>((inner & reinterpret_cast<I>(w_in)) | (~inner & reinterpret_cast<I>(w_out)));
+        dwdq = reinterpret_cast<F>((inner & reinterpret_cast<I>(dw_in)) |
+                                   (~inner & reinterpret_cast<I>(dw_out)));
     }
     // W at squared distance r2.
     float w(float r2) const {

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <numbers>
 #include <vector>
@@ -124,15 +125,25 @@ TEST(SphKernels, GradientsPointTowardsTheNeighbourAndAreAntisymmetric) {
 }  // namespace
 }  // namespace rivulet
 
-// The neighbour lists evaluate the cubic spline four distances at a time; each lane must give the scalar
-// call's bits (the simulation's bytes do not depend on which form ran), on both sides of q = 1/2 too.
-TEST(SphKernels, CubicSplineInFourLanesGivesTheScalarBits) {
-    const rivulet::SphCubicKernel kernel(0.0228f);
+namespace {
+
+// Distances over the cubic spline's support, both sides of q = 1/2 among them, padded to eight lanes.
+std::vector<float> cubic_spline_distances(const rivulet::SphCubicKernel& kernel) {
     std::vector<float> r;
     for (int k = 0; k <= 4000; ++k) r.push_back(kernel.h * float(k) / 4000.0f);
     const float half = 0.5f * kernel.h;
     r.insert(r.end(), {std::nextafter(half, 0.0f), half, std::nextafter(half, 1.0f), 0.0f, 1e-12f});
-    while (r.size() % 4 != 0) r.push_back(0.5f * kernel.h);
+    while (r.size() % 8 != 0) r.push_back(0.5f * kernel.h);
+    return r;
+}
+
+}  // namespace
+
+// The cubic spline in lanes (four, or eight in the neighbour lists); each lane must give the scalar
+// call's bits (the simulation's bytes do not depend on which form ran), on both sides of q = 1/2 too.
+TEST(SphKernels, CubicSplineInFourLanesGivesTheScalarBits) {
+    const rivulet::SphCubicKernel kernel(0.0228f);
+    const std::vector<float> r = cubic_spline_distances(kernel);
     for (std::size_t i = 0; i < r.size(); i += 4) {
         rivulet::simd::F4 w4, dw4;
         kernel.at(rivulet::simd::load(&r[i]), w4, dw4);
@@ -144,6 +155,25 @@ TEST(SphKernels, CubicSplineInFourLanesGivesTheScalarBits) {
             kernel.at(r[i + lane], ws, dws);
             EXPECT_EQ(std::bit_cast<std::uint32_t>(w[lane]), std::bit_cast<std::uint32_t>(ws)) << r[i + lane];
             EXPECT_EQ(std::bit_cast<std::uint32_t>(dw[lane]), std::bit_cast<std::uint32_t>(dws))
+                << r[i + lane];
+        }
+    }
+}
+
+TEST(SphKernels, CubicSplineInEightLanesGivesTheScalarBits) {
+    const rivulet::SphCubicKernel kernel(0.0228f);
+    const std::vector<float> r = cubic_spline_distances(kernel);
+    using F = rivulet::VectorLanes<8>::f;
+    for (std::size_t i = 0; i < r.size(); i += 8) {
+        F r8, w8, dw8;
+        std::memcpy(&r8, &r[i], sizeof r8);
+        kernel.at(r8, w8, dw8);
+        for (int lane = 0; lane < 8; ++lane) {
+            float ws = 0.0f, dws = 0.0f;
+            kernel.at(r[i + lane], ws, dws);
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(float(w8[lane])), std::bit_cast<std::uint32_t>(ws))
+                << r[i + lane];
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(float(dw8[lane])), std::bit_cast<std::uint32_t>(dws))
                 << r[i + lane];
         }
     }
