@@ -14,14 +14,12 @@ struct VectorLanes<4> {
     using f = float __attribute__((vector_size(16)));
     using i = std::int32_t __attribute__((vector_size(16)));
     using u = std::uint32_t __attribute__((vector_size(16)));
-    using b = std::uint8_t __attribute__((vector_size(4)));  // bytes, one a lane
 };
 template <>
 struct VectorLanes<8> {
     using f = float __attribute__((vector_size(32)));
     using i = std::int32_t __attribute__((vector_size(32)));
     using u = std::uint32_t __attribute__((vector_size(32)));
-    using b = std::uint8_t __attribute__((vector_size(8)));
 };
 
 }  // namespace rivulet
