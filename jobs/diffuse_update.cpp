@@ -14,7 +14,8 @@ constexpr int kCollisionRounds = 3;
 
 // The step p0 -> p against one collider, in the collider's frame, so a moving collider pushes the
 // particles it sweeps over.
-bool collide_one(const DiffuseColliderStep& c, float dt, float restitution, Vec3f p0, Vec3f& p, Vec3f& v) {
+RIVULET_INLINE bool collide_one(const DiffuseColliderStep& c, float dt, float restitution, Vec3f p0, Vec3f& p,
+                                Vec3f& v) {
     const Vec3f lo{std::min(p0.x, p.x), std::min(p0.y, p.y), std::min(p0.z, p.z)};
     const Vec3f hi{std::max(p0.x, p.x), std::max(p0.y, p.y), std::max(p0.z, p.z)};
     if (hi.x < c.swept_min.x || hi.y < c.swept_min.y || hi.z < c.swept_min.z || lo.x > c.swept_max.x ||
@@ -31,7 +32,10 @@ bool collide_one(const DiffuseColliderStep& c, float dt, float restitution, Vec3
 // A moving solid may push a particle into another one, so with several solids the tests repeat while
 // they bounce; still solids come last in each round and so always have the final word. One solid's
 // answer is final: it never leaves a particle inside itself.
-RIVULET_INLINE void collide_all_body(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p, Vec3f& v) {
+// Not analysed across the call (noipa): the AVX2 lanes then clear the registers' upper halves before it, as
+// the solids' tests behind the function pointers need (see change_voxel_avx2).
+[[gnu::noinline, gnu::noipa]] void collide_all(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p,
+                                               Vec3f& v) {
     const int rounds = ctx.colliders.size() > 1 ? kCollisionRounds : 1;
     for (int round = 0; round < rounds; ++round) {
         bool hit = false;
@@ -86,16 +90,10 @@ RIVULET_INLINE bool change_voxel_body(const DiffuseUpdateContext& ctx, std::size
     return fading && now >= duration;
 }
 
-// The lanes' scalar fallbacks in a build of each width's instruction set. Called from the AVX2 lanes, a
-// baseline (SSE) build runs while the caller's vectors are live in the registers' upper halves, and
-// every one of its instructions then pays for the mixed state: the whole update took 2.4 times as long.
-[[gnu::noinline]] RIVULET_AVX2 void collide_all_avx2(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p,
-                                                     Vec3f& v) {
-    collide_all_body(ctx, p0, p, v);
-}
-[[gnu::noinline]] void collide_all_baseline(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p, Vec3f& v) {
-    collide_all_body(ctx, p0, p, v);
-}
+// The voxel change in a build of each lane width's instruction set. Called from the AVX2 lanes, a baseline
+// (SSE) build runs while the caller's vectors are live in the registers' upper halves (the compiler sees
+// which registers it uses and keeps them there), and on Intel every one of its instructions then pays
+// for the mixed state: the whole update took 2.4 times as long.
 [[gnu::noinline]] RIVULET_AVX2 bool change_voxel_avx2(const DiffuseUpdateContext& ctx, std::size_t i,
                                                       std::uint32_t old_voxel, std::uint32_t voxel,
                                                       float elapsed, std::uint32_t* move) {
@@ -358,10 +356,7 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
     for (unsigned b = near & ((1u << n) - 1u); b; b &= b - 1) {
         const int l = __builtin_ctz(b);
         Vec3f p{px[l], py[l], pz[l]}, v{vx[l], vy[l], vz[l]};
-        if constexpr (L == 8)
-            collide_all_avx2(ctx, Vec3f{px0[l], py0[l], pz0[l]}, p, v);
-        else
-            collide_all_baseline(ctx, Vec3f{px0[l], py0[l], pz0[l]}, p, v);
+        collide_all(ctx, Vec3f{px0[l], py0[l], pz0[l]}, p, v);
         px[l] = p.x, py[l] = p.y, pz[l] = p.z, vx[l] = v.x, vy[l] = v.y, vz[l] = v.z;
     }
     Ln::store(&P.x[i], px, n), Ln::store(&P.y[i], py, n), Ln::store(&P.z[i], pz, n);
