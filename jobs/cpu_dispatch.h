@@ -7,6 +7,11 @@
 //   RIVULET_AVX2 void kernel_avx2(args) { kernel_body(args); }       // body: an always-inline function
 //   void kernel(args) { if (cpu_has_avx2()) kernel_avx2(args); else kernel_body(args); }
 //
+// A function the AVX2 body calls out of line needs an AVX2 build of its own (or [[gnu::noipa]], so the
+// caller clears the vectors' upper halves first): a baseline build of a function in the same file runs
+// with the caller's vectors still live in those halves, and on Intel each of its SSE instructions then
+// pays for the mixed state (the diffuse update ran 2.4 times as long; jobs/diffuse_update.cpp).
+//
 // RIVULET_NO_AVX2=1 in the environment forces the baseline builds (tests compare the two).
 #include <cstdlib>
 
