@@ -25,8 +25,7 @@ void diffuse_emit_count_block(std::size_t block, const DiffuseEmitContext& ctx) 
     ctx.counts[block] = n;
 }
 
-std::size_t diffuse_emit_offsets(const DiffuseEmitContext& ctx) {
-    const std::size_t room = ctx.particles.size() - ctx.first;
+std::size_t diffuse_emit_offsets(const DiffuseEmitContext& ctx, std::size_t room) {
     std::size_t total = 0;
     for (std::size_t b = 0; b < ctx.counts.size(); ++b) {
         const std::size_t granted = std::min<std::size_t>(ctx.counts[b], room - total);
@@ -41,7 +40,7 @@ void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& ctx) {
     const std::size_t begin = block * ctx.block_size,
                       end = std::min(ctx.inside.size(), begin + ctx.block_size);
     std::uint32_t left = ctx.counts[block];
-    std::size_t out = ctx.first + ctx.offsets[block];
+    std::size_t birth = ctx.offsets[block];
     const ParticleSpans& P = ctx.particles;
     const DiffuseAttributeSpans& A = ctx.attributes;
     for (std::size_t k = begin; k < end && left > 0; ++k) {
@@ -50,8 +49,10 @@ void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& ctx) {
         if (n == 0) continue;
         const VoxelMaterial& m = ctx.materials[ctx.material[v]];
         const Vec3f corner = ctx.grid.voxel_min(v) + ctx.offset;
-        for (std::uint32_t j = 0; j < n; ++j, ++out) {
-            const std::uint32_t id = ctx.first_id + static_cast<std::uint32_t>(out - ctx.first);
+        for (std::uint32_t j = 0; j < n; ++j, ++birth) {
+            const std::size_t out =
+                birth < ctx.places.size() ? ctx.places[birth] : ctx.first + (birth - ctx.places.size());
+            const std::uint32_t id = ctx.first_id + static_cast<std::uint32_t>(birth);
             const auto u = [&](std::uint64_t stream) {
                 return counter_uniform(ctx.seed, ctx.frame, id, stream);
             };

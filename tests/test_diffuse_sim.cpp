@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <set>
 #include <vector>
@@ -366,7 +367,8 @@ std::vector<FrameRecord> run_ghost(int threads, int frames, Recording* recording
 }
 
 // A wall sweeping through a dense box of particles that fade out within a frame or two: thousands die
-// and are born every frame, so the compaction's copies span several blocks of diffuse.compact_fill.
+// and are born every frame, the births in the dead's places and the copies of the compaction (where
+// fewer are born than die) across several blocks.
 SceneDesc churning_scene() {
     SceneDesc s = box_scene();
     s.max_particles = 40000;
@@ -386,8 +388,10 @@ TEST(DiffusePipeline, ChurnFillsSeveralBlocksWithTheSameBytesAtOneAndTwoThreads)
     SceneSimulation sim(s);
     const DiffuseSimulation& d = *sim.diffuse();
     std::set<std::uint32_t> before;
-    std::size_t most_dead = 0;
+    std::map<std::uint32_t, std::size_t> place;  // id -> index, the frame before
+    std::size_t most_dead = 0, frames_in_place = 0;
     for (int f = 0; f < 40; ++f) {
+        const std::size_t count = sim.particles().size();
         sim.step_serial(1);
         const ParticleSet& p = sim.particles();
         const std::set<std::uint32_t> now(p.id().begin(), p.id().end());
@@ -395,13 +399,26 @@ TEST(DiffusePipeline, ChurnFillsSeveralBlocksWithTheSameBytesAtOneAndTwoThreads)
         std::size_t dead = 0;
         for (std::uint32_t id : before) dead += !now.count(id);
         most_dead = std::max(most_dead, dead);
+        // As many born as died: the births took the dead's places and no survivor moved.
+        if (dead > 0 && p.size() == count) {
+            ++frames_in_place;
+            for (std::size_t i = 0; i < p.size(); ++i) {
+                const auto it = place.find(p.id()[i]);
+                if (it != place.end()) {
+                    ASSERT_EQ(it->second, i) << "a survivor moved, frame " << f;
+                }
+            }
+        }
+        place.clear();
+        for (std::size_t i = 0; i < p.size(); ++i) place[p.id()[i]] = i;
         before = now;
         // Particles under the wall count for no voxel: theirs is switched off.
         const std::vector<std::uint32_t> n = count_per_voxel(d, p);
         for (std::uint32_t v : d.object().inside)
             ASSERT_EQ(d.density()[v], d.blocked(v) ? 0u : n[v]) << "frame " << f;
     }
-    EXPECT_GT(most_dead, 3u * 4096u) << "the copies should need several fill blocks";
+    EXPECT_GT(most_dead, 3u * 4096u) << "the births and copies should span several blocks";
+    EXPECT_GT(frames_in_place, 5u) << "frames with as many births as deaths";
     const std::vector<FrameRecord> one = run_scene(s, 1, 40), two = run_scene(s, 2, 40);
     ASSERT_EQ(one.size(), two.size());
     for (std::size_t i = 0; i < one.size(); ++i) {

@@ -5,8 +5,8 @@
 //   streams  simulate.integrate*                       (systems/sim/stream_sim.h)
 //   SPH      simulate.sph, running per substep the nested phases sph.substep, sph.grid_count*, ...,
 //            sph.integrate* in the order the solver asks for them (systems/sim/sph_simulation.h)
-//   diffuse  diffuse.update* -> diffuse.compact -> diffuse.compact_fill* -> diffuse.emit_count*
-//            -> diffuse.emit_offsets -> diffuse.emit*  (systems/diffuse/diffuse_simulation.h)
+//   diffuse  diffuse.update* -> diffuse.compact -> diffuse.emit_count* -> diffuse.emit_offsets
+//            -> diffuse.compact_fill* -> diffuse.emit*  (systems/diffuse/diffuse_simulation.h)
 #include "runtime/lib/frame_graph.h"
 #include "systems/diffuse/diffuse_simulation.h"
 #include "systems/particles/particle_set.h"

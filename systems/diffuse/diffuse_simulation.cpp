@@ -240,24 +240,18 @@ void DiffuseSimulation::compact(ParticleSet& particles) {
     for (std::size_t b = 0; b < update_blocks(particles); ++b)
         dead_all_.insert(dead_all_.end(), dead_.begin() + std::ptrdiff_t(b * kUpdateBlock),
                          dead_.begin() + std::ptrdiff_t(b * kUpdateBlock + dead_count_[b]));
-    // Only the pairs here; the copies, scattered over a dozen arrays, are compact_fill's blocks. Every
-    // `to` lies below the new count and every `from` at or above it, so the blocks never meet.
-    fills_.clear();
-    emit_first_ = fill_dead_from_end(particles.size(), dead_all_, [&](std::size_t from, std::size_t to) {
-        fills_.push_back(static_cast<std::uint32_t>(from));
-        fills_.push_back(static_cast<std::uint32_t>(to));
-    });
+    compact_from_ = particles.size();
+    births_in_place_ = 0;  // until emit_offsets knows the births
 }
 
 std::size_t DiffuseSimulation::fill_blocks() const {
     return (fills_.size() / 2 + kFillBlock - 1) / kFillBlock;
 }
 
-// The count shrinks to emit_first_ in emit_offsets, after every block: the spans here still reach the
-// particles being moved.
+// The count has already shrunk (emit_offsets): the spans reach back to the particles being moved.
 void DiffuseSimulation::fill_block(std::size_t block, ParticleSet& particles) {
-    ParticleSpans p = particles.spans();
-    DiffuseAttributeSpans a = attributes(particles.size());
+    ParticleSpans p = particles.spans_over(compact_from_);
+    DiffuseAttributeSpans a = attributes(compact_from_);
     const std::size_t end = std::min(fills_.size() / 2, (block + 1) * kFillBlock);
     for (std::size_t k = block * kFillBlock; k < end; ++k) {
         const std::size_t from = fills_[2 * k], to = fills_[2 * k + 1];
@@ -288,8 +282,9 @@ DiffuseEmitContext DiffuseSimulation::emit_context(ParticleSet& particles) {
     ctx.offsets = emit_offsets_;
     ctx.particles = particles.spans();
     ctx.attributes = attributes(particles.size());
+    ctx.places = std::span<const std::uint32_t>(dead_all_).first(births_in_place_);
     ctx.first = emit_first_;
-    ctx.first_id = next_id_;
+    ctx.first_id = birth_first_id_;
     ctx.seed = scene_.seed;
     ctx.frame = frame_;
     return ctx;
@@ -299,20 +294,27 @@ void DiffuseSimulation::emit_count_block(std::size_t block, ParticleSet& particl
     diffuse_emit_count_block(block, emit_context(particles));
 }
 
+// The births take the dead's places, lowest first; the dead's places left over are filled from the end
+// (compact_fill), or the births left over go after the live particles. Every place filled from the end
+// lies below the new count and every particle moved at or above it, so fills and births never meet.
 void DiffuseSimulation::emit_offsets(ParticleSet& particles) {
-    DiffuseEmitContext ctx = emit_context(particles);
-    // The offsets need the room left: the spans over the whole capacity.
-    particles.resize(particles.capacity());
-    ctx.particles = particles.spans();
-    const std::size_t total = diffuse_emit_offsets(ctx);
-    particles.resize(emit_first_ + total);
-    next_id_ += static_cast<std::uint32_t>(total);
+    const std::size_t dead = dead_all_.size(), live = compact_from_ - dead;
+    const std::size_t births = diffuse_emit_offsets(emit_context(particles), particles.capacity() - live);
+    births_in_place_ = std::min(births, dead);
+    fills_.clear();
+    emit_first_ =
+        fill_dead_from_end(compact_from_, std::span<const std::uint32_t>(dead_all_).subspan(births_in_place_),
+                           [&](std::size_t from, std::size_t to) {
+                               fills_.push_back(static_cast<std::uint32_t>(from));
+                               fills_.push_back(static_cast<std::uint32_t>(to));
+                           });
+    particles.resize(emit_first_ + (births - births_in_place_));
+    birth_first_id_ = next_id_;
+    next_id_ += static_cast<std::uint32_t>(births);
 }
 
 void DiffuseSimulation::emit_block(std::size_t block, ParticleSet& particles) {
-    DiffuseEmitContext ctx = emit_context(particles);
-    ctx.first_id = next_id_ - static_cast<std::uint32_t>(particles.size() - emit_first_);
-    diffuse_emit_block(block, ctx);
+    diffuse_emit_block(block, emit_context(particles));
 }
 
 }  // namespace rivulet

@@ -4,10 +4,11 @@
 // ParticleSet, the density per voxel and the colliders. Each frame runs begin_frame (serial: where the
 // object and colliders are, which voxels colliders block), then the phases of kPhases in order:
 //   update        parallel over update blocks: ages, forces, moves; the dead marked
-//   compact       serial: the voxel changes counted; which live particle fills each dead one's place
-//   compact_fill  parallel over fill blocks: those particles copied into the places
+//   compact       serial: the voxel changes counted; the dead listed
 //   emit_count    parallel over emit blocks: how many each emitting voxel adds
-//   emit_offsets  serial: where each block's new particles go
+//   emit_offsets  serial: where each block's new particles go (the dead's places first); which live
+//                 particle from the end fills each place no birth takes
+//   compact_fill  parallel over fill blocks: those particles copied into the places
 //   emit          parallel over emit blocks: the new particles
 // The frame graph runs each phase as one job named by kPhases (runtime/lib/simulation_jobs.cpp), a serial
 // step as run_phases_serial. Everything is sized at construction; a frame allocates nothing.
@@ -36,17 +37,17 @@ class DiffuseSimulation {
     enum Phase : std::size_t {
         kUpdate = 0,
         kCompact,
-        kCompactFill,
         kEmitCount,
         kEmitOffsets,
+        kCompactFill,
         kEmit,
         kPhaseCount
     };
     static constexpr std::array<DiffusePhase, kPhaseCount> kPhases = {{{"diffuse.update", true},
                                                                        {"diffuse.compact", false},
-                                                                       {"diffuse.compact_fill", true},
                                                                        {"diffuse.emit_count", true},
                                                                        {"diffuse.emit_offsets", false},
+                                                                       {"diffuse.compact_fill", true},
                                                                        {"diffuse.emit", true}}};
 
     // Loads and voxelizes the scene's mesh, builds the colliders; `particles` gets the capacity.
@@ -118,8 +119,10 @@ class DiffuseSimulation {
     std::vector<std::uint32_t> fills_;  // (from, to) pairs: the live particle that fills each dead place
     std::vector<std::uint32_t> moves_, move_count_;  // voxel changes per update block
     std::vector<std::uint32_t> emit_counts_, emit_offsets_;
-    std::size_t emit_first_ = 0;
-    std::uint32_t next_id_ = 0;
+    std::size_t compact_from_ = 0;     // the count before this frame's compaction
+    std::size_t births_in_place_ = 0;  // this frame's births that take a dead one's place
+    std::size_t emit_first_ = 0;       // where the births beyond those go
+    std::uint32_t next_id_ = 0, birth_first_id_ = 0;
     std::uint64_t frame_ = 0;
     Vec3f offset_, prev_offset_, velocity_;
     DissolveFront dissolve_;

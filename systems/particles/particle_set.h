@@ -44,6 +44,12 @@ class ParticleSet {
         return {x_.span(size_),  y_.span(size_),  z_.span(size_), vx_.span(size_),
                 vy_.span(size_), vz_.span(size_), id_.span(size_)};
     }
+    // Spans over the first n places (n <= capacity), live or not: a compaction copies particles from
+    // places past a count it has already lowered.
+    ParticleSpans spans_over(std::size_t n) {
+        if (n > capacity()) throw std::length_error("ParticleSet::spans_over beyond capacity");
+        return {x_.span(n), y_.span(n), z_.span(n), vx_.span(n), vy_.span(n), vz_.span(n), id_.span(n)};
+    }
     ConstPositions positions() const { return {x_.span(size_), y_.span(size_), z_.span(size_)}; }
     std::span<const float> x() const { return x_.span(size_); }
     std::span<const float> y() const { return y_.span(size_); }
