@@ -32,10 +32,9 @@ RIVULET_INLINE bool collide_one(const DiffuseColliderStep& c, float dt, float re
 // A moving solid may push a particle into another one, so with several solids the tests repeat while
 // they bounce; still solids come last in each round and so always have the final word. One solid's
 // answer is final: it never leaves a particle inside itself.
-// Not analysed across the call (noipa): the AVX2 lanes then clear the registers' upper halves before it, as
-// the solids' tests behind the function pointers need (see change_voxel_avx2).
-[[gnu::noinline, gnu::noipa]] void collide_all(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p,
-                                               Vec3f& v) {
+// Opaque to the caller (jobs/cpu_dispatch.h): the AVX2 lanes clear the registers' upper halves before it,
+// as its baseline code and the solids' tests behind the function pointers need.
+RIVULET_OPAQUE void collide_all(const DiffuseUpdateContext& ctx, Vec3f p0, Vec3f& p, Vec3f& v) {
     const int rounds = ctx.colliders.size() > 1 ? kCollisionRounds : 1;
     for (int round = 0; round < rounds; ++round) {
         bool hit = false;
@@ -159,7 +158,8 @@ struct Lanes {
     }
     // Per lane the step-table column of voxel v: its material while active, else `outside`
     // (kOutsideVoxel included). One table read a lane and no branch (lanes mix inside and outside
-    // particles at random): a voxel past the grid reads the last one's entry and is then replaced.
+    // particles at random): a voxel past the grid (which has at least one) reads the last one's entry
+    // and is then replaced.
     // Built from scalars in registers: lane stores read back as a vector would wait for each store.
     RIVULET_INLINE static void step_columns(U& columns, std::span<const std::uint16_t> column, const U& v,
                                             std::uint32_t outside) {
@@ -179,12 +179,14 @@ struct Lanes {
     RIVULET_INLINE static void flags(I& set, const std::uint8_t* p, int n) {
         std::uint64_t raw = 0;
         std::memcpy(&raw, p, std::size_t(n));
-        const auto lo = static_cast<std::uint32_t>(raw), hi = static_cast<std::uint32_t>(raw >> 32);
+        const auto lo = static_cast<std::uint32_t>(raw);
         constexpr std::uint32_t b0 = 0xffu, b1 = 0xff00u, b2 = 0xff0000u, b3 = 0xff000000u;
-        if constexpr (L == 8)
+        if constexpr (L == 8) {
+            const auto hi = static_cast<std::uint32_t>(raw >> 32);
             set = (U{lo, lo, lo, lo, hi, hi, hi, hi} & U{b0, b1, b2, b3, b0, b1, b2, b3}) != U{};
-        else
+        } else {
             set = ((U{} + lo) & U{b0, b1, b2, b3}) != U{};
+        }
     }
     // Bit l set where lane l of the comparison result is true.
     RIVULET_INLINE static unsigned bits(const I& m) {
