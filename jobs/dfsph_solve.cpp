@@ -41,6 +41,45 @@ inline void correction_of(const DfsphContext& c, const DfsphChunkLists& l, std::
     d[2] = lanes[2] + ki * c.wall_gz[i];
 }
 
+// sum_j (v_ij . x_ij) / (r_ij^2 + eps2) V grad W_ij over particle i's pairs (the viscosity's sum, Monaghan's
+// form): four pairs to a vector, a pair a lane, their neighbours' columns gathered; a missing pair is i
+// itself, which adds +0. Each lane's sums are added in a fixed order at the end.
+inline void viscosity_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
+                         std::span<const float> vx, std::span<const float> vy, std::span<const float> vz,
+                         float eps2, float a[3]) {
+    using simd::F4;
+    const F4 xi = simd::splat(c.x[i]), yi = simd::splat(c.y[i]), zi = simd::splat(c.z[i]);
+    const F4 vxi = simd::splat(vx[i]), vyi = simd::splat(vy[i]), vzi = simd::splat(vz[i]);
+    const F4 e2 = simd::splat(eps2);
+    F4 ax = simd::splat(0.0f), ay = ax, az = ax;
+    const auto self = static_cast<std::uint32_t>(i);
+    for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; p += 4) {
+        const std::uint32_t n = c.pair_end[i] - p;
+        const DfsphPair none{0.0f, 0.0f, 0.0f, self};
+        const DfsphPair& q0 = l.pairs[p];
+        const DfsphPair& q1 = n > 1 ? l.pairs[p + 1] : none;
+        const DfsphPair& q2 = n > 2 ? l.pairs[p + 2] : none;
+        const DfsphPair& q3 = n > 3 ? l.pairs[p + 3] : none;
+        const std::uint32_t j0 = q0.j, j1 = q1.j, j2 = q2.j, j3 = q3.j;
+        const F4 dx = xi - simd::make(c.x[j0], c.x[j1], c.x[j2], c.x[j3]);
+        const F4 dy = yi - simd::make(c.y[j0], c.y[j1], c.y[j2], c.y[j3]);
+        const F4 dz = zi - simd::make(c.z[j0], c.z[j1], c.z[j2], c.z[j3]);
+        const F4 r2 = dx * dx + dy * dy + dz * dz;
+        const F4 vr = (vxi - simd::make(vx[j0], vx[j1], vx[j2], vx[j3])) * dx +
+                      (vyi - simd::make(vy[j0], vy[j1], vy[j2], vy[j3])) * dy +
+                      (vzi - simd::make(vz[j0], vz[j1], vz[j2], vz[j3])) * dz;
+        const F4 s = vr / (r2 + e2);
+        ax = ax + s * simd::make(q0.gx, q1.gx, q2.gx, q3.gx);
+        ay = ay + s * simd::make(q0.gy, q1.gy, q2.gy, q3.gy);
+        az = az + s * simd::make(q0.gz, q1.gz, q2.gz, q3.gz);
+    }
+    alignas(16) float lx[4], ly[4], lz[4];
+    simd::store(lx, ax), simd::store(ly, ay), simd::store(lz, az);
+    a[0] = (lx[0] + lx[1]) + (lx[2] + lx[3]);
+    a[1] = (ly[0] + ly[1]) + (ly[2] + ly[3]);
+    a[2] = (lz[0] + lz[1]) + (lz[2] + lz[3]);
+}
+
 }  // namespace
 
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
@@ -85,20 +124,12 @@ float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin,
     const float scale = 10.0f * nu;
     float max_v2 = 0.0f;
     for (std::size_t i = begin; i < end; ++i) {
-        const float xi = c.x[i], yi = c.y[i], zi = c.z[i];
         const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
         float ax = 0.0f, ay = 0.0f, az = 0.0f;
         if (scale > 0.0f) {
-            for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
-                const DfsphPair q = l.pairs[p];
-                const std::uint32_t j = q.j;
-                const float dx = xi - c.x[j], dy = yi - c.y[j], dz = zi - c.z[j];
-                const float r2 = dx * dx + dy * dy + dz * dz;
-                const float vr = (vxi - vx[j]) * dx + (vyi - vy[j]) * dy + (vzi - vz[j]) * dz;
-                const float s = vr / (r2 + eps2);
-                ax += s * q.gx, ay += s * q.gy, az += s * q.gz;
-            }
-            ax *= scale, ay *= scale, az *= scale;
+            float a[3];
+            viscosity_of(c, l, i, vx, vy, vz, eps2, a);
+            ax = a[0] * scale, ay = a[1] * scale, az = a[2] * scale;
         }
         const float px = vxi + dt * (ax + gravity[0]);
         const float py = vyi + dt * (ay + gravity[1]);

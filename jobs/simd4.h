@@ -23,6 +23,10 @@ inline F4 load(const float* p) {
 inline F4 splat(float x) {
     return {_mm_set1_ps(x)};
 }
+// Lanes 0-3 from four scalars (gathered neighbours).
+inline F4 make(float a, float b, float c, float d) {
+    return {_mm_setr_ps(a, b, c, d)};
+}
 inline F4 operator+(F4 a, F4 b) {
     return {_mm_add_ps(a.v, b.v)};
 }
@@ -71,6 +75,9 @@ inline F4 load(const float* p) {
 }
 inline F4 splat(float x) {
     return {{x, x, x, x}};
+}
+inline F4 make(float a, float b, float c, float d) {
+    return {{a, b, c, d}};
 }
 inline F4 operator+(F4 a, F4 b) {
     return {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2], a.v[3] + b.v[3]}};
