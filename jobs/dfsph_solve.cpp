@@ -73,11 +73,7 @@ inline void viscosity_of(const DfsphContext& c, const DfsphChunkLists& l, std::s
         ay = ay + s * simd::make(q0.gy, q1.gy, q2.gy, q3.gy);
         az = az + s * simd::make(q0.gz, q1.gz, q2.gz, q3.gz);
     }
-    alignas(16) float lx[4], ly[4], lz[4];
-    simd::store(lx, ax), simd::store(ly, ay), simd::store(lz, az);
-    a[0] = (lx[0] + lx[1]) + (lx[2] + lx[3]);
-    a[1] = (ly[0] + ly[1]) + (ly[2] + ly[3]);
-    a[2] = (lz[0] + lz[1]) + (lz[2] + lz[3]);
+    a[0] = simd::sum(ax), a[1] = simd::sum(ay), a[2] = simd::sum(az);
 }
 
 }  // namespace

@@ -54,6 +54,12 @@ inline unsigned less_mask(F4 a, F4 b) {
 inline void store(float* p, F4 a) {
     _mm_storeu_ps(p, a.v);
 }
+// The four lanes' sum in a fixed order: (l0 + l1) + (l2 + l3).
+inline float sum(F4 a) {
+    alignas(16) float l[4];
+    _mm_store_ps(l, a.v);
+    return (l[0] + l[1]) + (l[2] + l[3]);
+}
 // Lane-wise max; b where a is NaN, as maxps.
 inline F4 max(F4 a, F4 b) {
     return {_mm_max_ps(a.v, b.v)};
@@ -78,6 +84,9 @@ inline F4 splat(float x) {
 }
 inline F4 make(float a, float b, float c, float d) {
     return {{a, b, c, d}};
+}
+inline float sum(F4 a) {
+    return (a.v[0] + a.v[1]) + (a.v[2] + a.v[3]);
 }
 inline F4 operator+(F4 a, F4 b) {
     return {{a.v[0] + b.v[0], a.v[1] + b.v[1], a.v[2] + b.v[2], a.v[3] + b.v[3]}};

@@ -387,7 +387,6 @@ TEST(DiffusePipeline, ChurnFillsSeveralBlocksWithTheSameBytesAtOneAndTwoThreads)
     // Serially: how many die a frame (ids gone by the next frame), and the density stays exact.
     SceneSimulation sim(s);
     const DiffuseSimulation& d = *sim.diffuse();
-    std::set<std::uint32_t> before;
     std::map<std::uint32_t, std::size_t> place;  // id -> index, the frame before
     std::size_t most_dead = 0, frames_in_place = 0;
     for (int f = 0; f < 40; ++f) {
@@ -397,7 +396,7 @@ TEST(DiffusePipeline, ChurnFillsSeveralBlocksWithTheSameBytesAtOneAndTwoThreads)
         const std::set<std::uint32_t> now(p.id().begin(), p.id().end());
         ASSERT_EQ(now.size(), p.size()) << "an id twice after frame " << f;
         std::size_t dead = 0;
-        for (std::uint32_t id : before) dead += !now.count(id);
+        for (const auto& [id, index] : place) dead += !now.count(id);
         most_dead = std::max(most_dead, dead);
         // As many born as died: the births took the dead's places and no survivor moved.
         if (dead > 0 && p.size() == count) {
@@ -411,7 +410,6 @@ TEST(DiffusePipeline, ChurnFillsSeveralBlocksWithTheSameBytesAtOneAndTwoThreads)
         }
         place.clear();
         for (std::size_t i = 0; i < p.size(); ++i) place[p.id()[i]] = i;
-        before = now;
         // Particles under the wall count for no voxel: theirs is switched off.
         const std::vector<std::uint32_t> n = count_per_voxel(d, p);
         for (std::uint32_t v : d.object().inside)

@@ -40,10 +40,7 @@ class ParticleSet {
     void remove_flagged(const std::uint8_t* dead);
     void copy_from(const ParticleSet& other);
 
-    ParticleSpans spans() {
-        return {x_.span(size_),  y_.span(size_),  z_.span(size_), vx_.span(size_),
-                vy_.span(size_), vz_.span(size_), id_.span(size_)};
-    }
+    ParticleSpans spans() { return spans_over(size_); }
     // Spans over the first n places (n <= capacity), live or not: a compaction copies particles from
     // places past a count it has already lowered.
     ParticleSpans spans_over(std::size_t n) {
