@@ -4,11 +4,13 @@
 #include "jobs/vector_lanes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace rivulet {
 
@@ -118,6 +120,18 @@ inline std::uint32_t group_bits(std::uint32_t G, std::uint32_t n, std::uint32_t 
     return m;
 }
 
+// Per set of a group's rows of bricks (bit c * kGroupBricksY + b), the mask with the first brick of each:
+// times the bricks a row reaches along x (fewer than 2^kGroupBricksX), the bricks reached, no carries.
+constexpr std::uint32_t kGroupRows = kGroupBricksY * kGroupBricksZ;
+static_assert(kGroupRows <= 8, "a table entry per set of a group's rows");
+constexpr std::array<GroupBrickMask, 1u << kGroupRows> kRowBases = [] {
+    std::array<GroupBrickMask, 1u << kGroupRows> table{};
+    for (std::uint32_t rows = 0; rows < table.size(); ++rows)
+        for (std::uint32_t r = 0; r < kGroupRows; ++r)
+            if (rows >> r & 1u) table[rows] |= GroupBrickMask(1) << (r * kGroupBricksX);
+    return table;
+}();
+
 // Calls f(i, group, mask) for every particle i of `p` and every group with a brick whose samples lie
 // within h of it (conservatively), with the bricks of that group it reaches (GroupBrickMask's bit order).
 template <bool kMask, class F>
@@ -132,19 +146,20 @@ void for_each_reached_group(const DensityGrid& g, ConstPositions p, F&& f) {
         brick_ranges(p.y.data() + start, n, g.oy, inv_voxel, hv, g.by, b0, b1);
         brick_ranges(p.z.data() + start, n, g.oz, inv_voxel, hv, g.bz, c0, c1);
         for (std::size_t i = 0; i < n; ++i)
-            for (std::uint32_t C = c0[i] / kGroupBricks; C <= c1[i] / kGroupBricks; ++C) {
-                const std::uint32_t mc = kMask ? group_bits(C, kGroupBricks, c0[i], c1[i]) : 0;
-                for (std::uint32_t B = b0[i] / kGroupBricks; B <= b1[i] / kGroupBricks; ++B) {
-                    const std::uint32_t mb = kMask ? group_bits(B, kGroupBricks, b0[i], b1[i]) : 0;
+            for (std::uint32_t C = c0[i] / kGroupBricksZ; C <= c1[i] / kGroupBricksZ; ++C) {
+                const std::uint32_t mc = kMask ? group_bits(C, kGroupBricksZ, c0[i], c1[i]) : 0;
+                for (std::uint32_t B = b0[i] / kGroupBricksY; B <= b1[i] / kGroupBricksY; ++B) {
+                    // The rows (b, c) of the group it reaches, bit c * kGroupBricksY + b.
+                    std::uint32_t rows = 0;
+                    if constexpr (kMask) {
+                        const std::uint32_t mb = group_bits(B, kGroupBricksY, b0[i], b1[i]);
+                        for (std::uint32_t lc = 0; lc < kGroupBricksZ; ++lc)
+                            rows |= (mb << (lc * kGroupBricksY)) & (0u - (mc >> lc & 1u));
+                    }
                     for (std::uint32_t A = a0[i] / kGroupBricksX; A <= a1[i] / kGroupBricksX; ++A) {
                         GroupBrickMask m = 0;
-                        if constexpr (kMask) {
-                            const GroupBrickMask ma = group_bits(A, kGroupBricksX, a0[i], a1[i]);
-                            for (std::uint32_t lc = 0; lc < kGroupBricks; ++lc)
-                                for (std::uint32_t lb = 0; lb < kGroupBricks; ++lb)
-                                    if ((mc >> lc & mb >> lb & 1u) != 0)
-                                        m |= ma << ((lc * kGroupBricks + lb) * kGroupBricksX);
-                        }
+                        if constexpr (kMask)
+                            m = kRowBases[rows] * GroupBrickMask(group_bits(A, kGroupBricksX, a0[i], a1[i]));
                         f(start + i, (C * groups.gy + B) * groups.gx + A, m);
                     }
                 }
@@ -155,8 +170,8 @@ void for_each_reached_group(const DensityGrid& g, ConstPositions p, F&& f) {
 }  // namespace
 
 DensityGroups density_groups(const DensityGrid& grid) {
-    return {(grid.bx + kGroupBricksX - 1) / kGroupBricksX, (grid.by + kGroupBricks - 1) / kGroupBricks,
-            (grid.bz + kGroupBricks - 1) / kGroupBricks};
+    return {(grid.bx + kGroupBricksX - 1) / kGroupBricksX, (grid.by + kGroupBricksY - 1) / kGroupBricksY,
+            (grid.bz + kGroupBricksZ - 1) / kGroupBricksZ};
 }
 
 std::uint32_t density_brick_of(const DensityGrid& grid, float x, float y, float z) {
@@ -194,9 +209,9 @@ std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const G
     std::uint32_t slots = 0;
     for (std::uint32_t c = 0; c < grid.bz; ++c)
         for (std::uint32_t b = 0; b < grid.by; ++b) {
-            const std::uint32_t row = ((c / kGroupBricks) * gs.gy + b / kGroupBricks) * gs.gx;
+            const std::uint32_t row = ((c / kGroupBricksZ) * gs.gy + b / kGroupBricksY) * gs.gx;
             const std::uint32_t shift =
-                ((c % kGroupBricks) * kGroupBricks + b % kGroupBricks) * kGroupBricksX;
+                ((c % kGroupBricksZ) * kGroupBricksY + b % kGroupBricksY) * kGroupBricksX;
             for (std::uint32_t a = 0; a < grid.bx; ++a) {
                 const std::uint32_t brick = grid.brick_index(a, b, c);
                 if (!(masks[row + a / kGroupBricksX] >> (shift + a % kGroupBricksX) & 1u)) {
@@ -225,40 +240,87 @@ constexpr std::uint32_t kLanes = (kGroupEdgeX + 7) / 8 * 8 + 8;
 constexpr float kMargin = 0.05f;
 
 // Sample indices [first, last] within [0, edge] of a group row at most r samples from t (t the
-// coordinate in samples from the group's first): floor(t - r) + 1 to floor(t + r), widened by kMargin.
-// Truncation instead of floor, which is a library call on the x86-64 baseline, where the value is
-// known to be non-negative. False when none.
-bool sample_range(float t, float r, int edge, int& first, int& last) {
+// coordinate in samples from the group's first): floor(t - r) + 1 to floor(t + r), widened by kMargin,
+// without a branch. Truncation instead of floor, which is a library call on the x86-64 baseline, where
+// the value is known to be non-negative; a + 1 rounding up to a whole number drops only a sample kMargin
+// beyond r. False when none.
+RIVULET_INLINE bool sample_range(float t, float r, int edge, int& first, int& last) {
     const float a = t - r - kMargin, b = t + r + kMargin;
-    if (!(b >= 0.0f) || !(a <= float(edge))) return false;
-    first = a >= 0.0f ? static_cast<int>(a) + 1 : 0;
-    last = b < float(edge) ? static_cast<int>(b) : edge;
-    return first <= last;
+    first = static_cast<int>(std::clamp(a + 1.0f, 0.0f, float(edge) + 1.0f));
+    last = static_cast<int>(std::clamp(b, -1.0f, float(edge)));
+    return (b >= 0.0f) & (a <= float(edge)) & (first <= last);
 }
 
+// Sample i of a group along an axis lies at origin + voxel * (first + i), as DensityGrid computes it.
+struct GroupAxis {
+    float origin, voxel;
+    std::uint32_t first;
+    int edge;  // the group's last sample index along the axis
+    float at(int i) const { return origin + voxel * static_cast<float>(first + std::uint32_t(i)); }
+};
 struct GroupFrame {
     const float* sx;  // kLanes sample x coordinates
-    const float* sy;  // kGroupEdge sample y coordinates
-    const float* sz;  // kGroupEdge
+    const float* sy;  // kGroupEdgeY + 8 sample y coordinates
+    const float* sz;  // kGroupEdgeZ + 8
     float inv_voxel, h_voxels, inv_h2;
+    GroupAxis ax, ay, az;
 };
 struct Particle {
     float x, y, z;
     int ia, ja, jb, ka, kb;  // sample ranges it can reach; x: [ia, ia + L vectors)
 };
 
-constexpr int kTrimRows = 6;  // a particle's rows [ja, jb] past this many are trimmed per slice
+// d = max(d, 0) per lane as maxps does it (0 where d is not above 0, NaN included): one instruction,
+// where GCC makes a comparison and a mask of `d > zero ? d : zero` (Clang makes the maxps itself). In
+// assembly because the AVX2 intrinsics cannot be inlined into this template, which has no target of its
+// own; by reference, so no vector crosses a function boundary.
+template <int L>
+RIVULET_INLINE void clamp_positive(typename VectorLanes<L>::f& d, const typename VectorLanes<L>::f& zero) {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+    if constexpr (L == 8)
+        asm("vmaxps %1, %0, %0" : "+x"(d) : "x"(zero));
+    else
+        asm("maxps %1, %0" : "+x"(d) : "x"(zero));
+#else
+    d = d > zero ? d : zero;
+#endif
+}
+
+// Lane l of v in every lane.
+template <class V, int... I>
+RIVULET_INLINE void spread_lanes(const V& v, V* out, std::integer_sequence<int, I...>) {
+    ((out[I] = v[I] - V{}), ...);
+}
+
+// (s[i] - c)^2 / h^2 for i in [0, count), each in every lane of out[i], computed L at a time (s holds
+// count rounded up to L).
+template <int L>
+RIVULET_INLINE void squared_distances(const float* s, float c, float inv_h2, int count,
+                                      typename VectorLanes<L>::f* out) {
+    using V = typename VectorLanes<L>::f;
+    const V cv = c - V{}, inv_h2v = inv_h2 - V{};
+    for (int i = 0; i < count; i += L) {
+        V d;
+        std::memcpy(&d, s + i, sizeof d);
+        d -= cv;
+        const V d2 = d * d * inv_h2v;
+        spread_lanes(d2, out + i, std::make_integer_sequence<int, L>{});
+    }
+}
 
 // One particle's rows, each as `vectors` (N when N > 0) L-wide vectors from sample ia on (unaligned, so
 // a row of n samples costs ceil(n / L) vectors whatever its offset; a lane past the kernel adds q = 0).
-// Every lane does the same IEEE operations in the same order whatever L (max as maxps: 0 where t - dx2 is
-// not above 0), so the baseline (L = 4) and AVX2 (L = 8) builds give the same bytes.
-template <int L, int N>
+// Every row of the square [ja, jb] x [ka, kb] is summed, the corners outside the kernel's circle too
+// (they add q = 0): a row costs a few instructions, and trimming each slice to its circle varies the
+// rows' count slice by slice, a mispredicted branch per slice that cost more than the rows it saved.
+// Every lane does the same IEEE operations in the same order whatever L (max as maxps: 0 where
+// qz - dx2 - dy2 is not above 0), so the baseline (L = 4) and AVX2 (L = 8) builds give the same bytes.
+template <int L, int N, int R>
 RIVULET_INLINE void splat_rows(const GroupFrame& g, const Particle& p, int vectors, float* acc) {
     using V = typename VectorLanes<L>::f;
     constexpr int kMaxVectors = N > 0 ? N : int(kLanes) / L;
     const int n = N > 0 ? N : vectors;
-    const V zero = V{} + 0.0f, pxv = V{} + p.x, inv_h2v = V{} + g.inv_h2;
+    const V zero = V{}, pxv = p.x - V{}, inv_h2v = g.inv_h2 - V{}, one = 1.0f - V{};
     V dx2[kMaxVectors];
     for (int v = 0; v < n; ++v) {
         V sx;
@@ -266,74 +328,98 @@ RIVULET_INLINE void splat_rows(const GroupFrame& g, const Particle& p, int vecto
         const V d = sx - pxv;
         dx2[v] = d * d * inv_h2v;
     }
-    // (sy - py)^2 / h^2 of rows [ja, jb], once for all its slices.
-    float dy2[kGroupEdge];
-    for (int j = p.ja; j <= p.jb; ++j) dy2[j] = (g.sy[j] - p.y) * (g.sy[j] - p.y) * g.inv_h2;
-    const bool wide = p.jb - p.ja >= kTrimRows;
-    for (int k = p.ka; k <= p.kb; ++k) {
-        const float qz = 1.0f - (g.sz[k] - p.z) * (g.sz[k] - p.z) * g.inv_h2;
-        if (!(qz > 0)) continue;
-        // Rows whose t is not above 0 add zeros. Where the kernel spans many rows the slice's circle
-        // trims the ends (the square's corners are many rows); where it spans few, the trimming's
-        // unpredictable branches cost more than the rows they save.
-        int jlo = p.ja, jhi = p.jb;
-        if (wide) {
-            while (jlo < jhi && !(qz - dy2[jlo] > 0)) ++jlo;
-            while (jhi > jlo && !(qz - dy2[jhi] > 0)) --jhi;
-        }
-        float* slice = acc + std::size_t(k) * kGroupEdge * kLanes + p.ia;
-        for (int j = jlo; j <= jhi; ++j) {
-            const V t = V{} + (qz - dy2[j]);
-            float* row = slice + std::size_t(j) * kLanes;
+    // (sy - py)^2 / h^2 of rows [ja, jb] and (sz - pz)^2 / h^2 of slices [ka, kb], each in every lane,
+    // once for all of them: a row subtracts its vector from memory.
+    const int rows = R > 0 ? R : p.jb - p.ja + 1, slices = p.kb - p.ka + 1;
+    V dy2[kGroupEdgeY + L], dz2[kGroupEdgeZ + L];
+    squared_distances<L>(g.sy + p.ja, p.y, g.inv_h2, rows, dy2);
+    squared_distances<L>(g.sz + p.ka, p.z, g.inv_h2, slices, dz2);
+    float* slice = acc + (std::size_t(p.ka) * kGroupEdgeY + std::size_t(p.ja)) * kLanes + p.ia;
+    for (int k = 0; k < slices; ++k, slice += kGroupEdgeY * kLanes) {
+        const V qz = one - dz2[k];
+        V qx[kMaxVectors];
+        for (int v = 0; v < n; ++v) qx[v] = qz - dx2[v];
+        float* row = slice;
+#pragma GCC unroll 16
+        for (int r = 0; r < rows; ++r, row += kLanes)
             for (int v = 0; v < n; ++v) {
-                const V d = t - dx2[v];
-                const V q = d > zero ? d : zero;
+                V q = qx[v] - dy2[r];
+                clamp_positive<L>(q, zero);
                 V sum;
                 std::memcpy(&sum, row + L * v, sizeof sum);
                 sum += q * q * q;
                 std::memcpy(row + L * v, &sum, sizeof sum);
             }
-        }
+    }
+}
+
+// A particle whose rows are one vector each, with as many rows per slice as the kernel spans at most
+// 2 to 9 voxels (R): the rows' loop unrolled, with no count to test (a loop's test and step were
+// a third of a row's instructions).
+template <int L, int R = 2>
+RIVULET_INLINE void splat_rows_of_one(const GroupFrame& g, const Particle& q, float* acc) {
+    if constexpr (R > 9)
+        splat_rows<L, 1, 0>(g, q, 1, acc);
+    else if (q.jb - q.ja + 1 == R)
+        splat_rows<L, 1, R>(g, q, 1, acc);
+    else
+        splat_rows_of_one<L, R + 1>(g, q, acc);
+}
+
+// Particles set up a block at a time: their ranges found in lanes, away from the rows' sums.
+constexpr std::uint32_t kSetupBlock = 64;
+
+// Sample ranges [first, last] along one axis of the group for n coordinates c: sample_range, then an end
+// sample at h or beyond dropped (q <= 0 whatever the other axes: a particle on a sample plane reaches one
+// more each side; the margin is far below a sample, so only the end sample can be one). reached[i] &=
+// whether any sample is in range. Branch-free over arrays, so the compiler does it in lanes.
+RIVULET_INLINE void axis_ranges(const GroupAxis& a, const float* c, std::uint32_t n, float s0,
+                                float inv_voxel, float h_voxels, float inv_h2, int* first, int* last,
+                                int* reached) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+        int f, l;
+        const int ok = sample_range((c[i] - s0) * inv_voxel, h_voxels, a.edge, f, l);
+        const float df = a.at(f) - c[i], dl = a.at(l) - c[i];
+        f += (f < l) & (df * df * inv_h2 >= 1.0f);
+        l -= (l > f) & (dl * dl * inv_h2 >= 1.0f);
+        first[i] = f, last[i] = l, reached[i] &= ok;
     }
 }
 
 // A group's particles summed into `acc`, L samples of a row at a time.
 template <int L>
 RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, const std::uint32_t* entries,
-                                    std::uint32_t begin, std::uint32_t end, int ex, int ey, int ez,
-                                    float* acc) {
-    for (std::uint32_t p = begin; p < end; ++p) {
-        const std::uint32_t e = entries[p];
-        const float px = sorted.x[e], py = sorted.y[e], pz = sorted.z[e];
-        const float ty = (py - g.sy[0]) * g.inv_voxel;
-        int ia, ib, ja, jb, ka, kb;
-        if (!sample_range((px - g.sx[0]) * g.inv_voxel, g.h_voxels, ex, ia, ib) ||
-            !sample_range(ty, g.h_voxels, ey, ja, jb) ||
-            !sample_range((pz - g.sz[0]) * g.inv_voxel, g.h_voxels, ez, ka, kb))
-            continue;
-        // The ranges keep a margin so no group misses a sample whose q is positive; samples at h or
-        // beyond (q <= 0 whatever the other axes: a particle on a sample plane reaches one more each side)
-        // would add zeros, so the ends whose own axis alone puts them there are dropped.
-        const auto beyond = [&](float s, float c) { return (s - c) * (s - c) * g.inv_h2 >= 1.0f; };
-        while (ia < ib && beyond(g.sx[ia], px)) ++ia;
-        while (ib > ia && beyond(g.sx[ib], px)) --ib;
-        while (ja < jb && beyond(g.sy[ja], py)) ++ja;
-        while (jb > ja && beyond(g.sy[jb], py)) --jb;
-        const Particle q{px, py, pz, ia, ja, jb, ka, kb};
-        const int vectors = (ib - ia) / L + 1;
-        switch (vectors) {
-            case 1:
-                splat_rows<L, 1>(g, q, 1, acc);
-                break;
-            case 2:
-                splat_rows<L, 2>(g, q, 2, acc);
-                break;
-            case 3:
-                splat_rows<L, 3>(g, q, 3, acc);
-                break;
-            default:
-                splat_rows<L, 0>(g, q, vectors, acc);
-                break;
+                                    std::uint32_t begin, std::uint32_t end, float* acc) {
+    float x[kSetupBlock], y[kSetupBlock], z[kSetupBlock];
+    int ia[kSetupBlock], ib[kSetupBlock], ja[kSetupBlock], jb[kSetupBlock], ka[kSetupBlock], kb[kSetupBlock];
+    int reached[kSetupBlock];
+    for (std::uint32_t start = begin; start < end; start += kSetupBlock) {
+        const std::uint32_t n = std::min(kSetupBlock, end - start);
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const std::uint32_t e = entries[start + i];
+            x[i] = sorted.x[e], y[i] = sorted.y[e], z[i] = sorted.z[e], reached[i] = 1;
+        }
+        axis_ranges(g.ax, x, n, g.sx[0], g.inv_voxel, g.h_voxels, g.inv_h2, ia, ib, reached);
+        axis_ranges(g.ay, y, n, g.sy[0], g.inv_voxel, g.h_voxels, g.inv_h2, ja, jb, reached);
+        axis_ranges(g.az, z, n, g.sz[0], g.inv_voxel, g.h_voxels, g.inv_h2, ka, kb, reached);
+        for (std::uint32_t i = 0; i < n; ++i) {
+            if (!reached[i]) continue;
+            const Particle q{x[i], y[i], z[i], ia[i], ja[i], jb[i], ka[i], kb[i]};
+            const int vectors = (ib[i] - ia[i]) / L + 1;
+            switch (vectors) {
+                case 1:
+                    splat_rows_of_one<L>(g, q, acc);
+                    break;
+                case 2:
+                    splat_rows<L, 2, 0>(g, q, 2, acc);
+                    break;
+                case 3:
+                    splat_rows<L, 3, 0>(g, q, 3, acc);
+                    break;
+                default:
+                    splat_rows<L, 0, 0>(g, q, vectors, acc);
+                    break;
+            }
         }
     }
 }
@@ -359,7 +445,7 @@ RIVULET_INLINE void copy_out_brick(const GroupOut& o, const float* base, std::ui
     for (std::uint32_t k = 0; k < kBrickEdge; ++k)
         for (std::uint32_t j = 0; j < kBrickEdge; ++j) {
             float* out = o.atlas.data() + atlas_offset(slot, 0, j, k);
-            const float* row = base + (std::size_t(k) * kGroupEdge + j) * kLanes;
+            const float* row = base + (std::size_t(k) * kGroupEdgeY + j) * kLanes;
             for (std::uint32_t i = 0; i < kVectorSamples; i += L) {
                 V f;
                 std::memcpy(&f, row + i, sizeof f);
@@ -382,16 +468,15 @@ RIVULET_INLINE void copy_out_brick(const GroupOut& o, const float* base, std::ui
 template <int L>
 RIVULET_INLINE void splat_group(const GroupFrame& g, ConstPositions sorted, const std::uint32_t* entries,
                                 std::uint32_t begin, std::uint32_t end, const GroupOut& o, float* acc) {
-    splat_particles<L>(g, sorted, entries, begin, end, int(o.na * kBrickCells), int(o.nb * kBrickCells),
-                       int(o.nc * kBrickCells), acc);
+    splat_particles<L>(g, sorted, entries, begin, end, acc);
     for (std::uint32_t lc = 0; lc < o.nc; ++lc)
         for (std::uint32_t lb = 0; lb < o.nb; ++lb)
             for (std::uint32_t la = 0; la < o.na; ++la) {
                 const std::int32_t s = o.brick_slot[o.grid.brick_index(o.a0 + la, o.b0 + lb, o.c0 + lc)];
                 if (s < 0) continue;
-                const float* base = acc +
-                                    (std::size_t(lc * kBrickCells) * kGroupEdge + lb * kBrickCells) * kLanes +
-                                    la * kBrickCells;
+                const float* base =
+                    acc + (std::size_t(lc * kBrickCells) * kGroupEdgeY + lb * kBrickCells) * kLanes +
+                    la * kBrickCells;
                 copy_out_brick<L>(o, base, static_cast<std::uint32_t>(s));
             }
 }
@@ -424,19 +509,22 @@ void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPosi
                          std::span<float> slot_min, std::span<float> slot_max) {
     const DensityGroups gs = density_groups(grid);
     const std::uint32_t ga = group % gs.gx, gb = (group / gs.gx) % gs.gy, gc = group / (gs.gx * gs.gy);
-    const std::uint32_t a0 = ga * kGroupBricksX, b0 = gb * kGroupBricks, c0 = gc * kGroupBricks;
+    const std::uint32_t a0 = ga * kGroupBricksX, b0 = gb * kGroupBricksY, c0 = gc * kGroupBricksZ;
     // Bricks of the group inside the grid, per axis, and the last sample index they hold.
-    const std::uint32_t na = std::min(kGroupBricksX, grid.bx - a0), nb = std::min(kGroupBricks, grid.by - b0),
-                        nc = std::min(kGroupBricks, grid.bz - c0);
+    const std::uint32_t na = std::min(kGroupBricksX, grid.bx - a0),
+                        nb = std::min(kGroupBricksY, grid.by - b0),
+                        nc = std::min(kGroupBricksZ, grid.bz - c0);
     const int ez = int(nc * kBrickCells);
     const std::uint32_t i0 = a0 * kBrickCells, j0 = b0 * kBrickCells, k0 = c0 * kBrickCells;
     // Sample positions exactly as DensityGrid computes them, and every distance from them, so a sample on
     // a face two groups share gets the same bits in both whatever range each visits. Lanes past the group
     // are summed but never read out.
+    // y and z run 8 past the group's edge: a particle's rows and slices are read 8 at a time.
     alignas(32) float sx[kLanes];
-    float sy[kGroupEdge], sz[kGroupEdge];
+    float sy[kGroupEdgeY + 8], sz[kGroupEdgeZ + 8];
     for (std::uint32_t i = 0; i < kLanes; ++i) sx[i] = grid.x(i0 + i);
-    for (std::uint32_t i = 0; i < kGroupEdge; ++i) sy[i] = grid.y(j0 + i), sz[i] = grid.z(k0 + i);
+    for (std::uint32_t i = 0; i < kGroupEdgeY + 8; ++i) sy[i] = grid.y(j0 + i);
+    for (std::uint32_t i = 0; i < kGroupEdgeZ + 8; ++i) sz[i] = grid.z(k0 + i);
     const float inv_voxel = 1.0f / grid.voxel, h_voxels = grid.h * inv_voxel;
     const float inv_h2 = 1.0f / (grid.h * grid.h);
     // W_poly6 = 315 / (64 pi h^3) q^3 with q = 1 - r^2 / h^2: no h^9 to overflow at small h.
@@ -444,16 +532,24 @@ void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPosi
     const float scale =
         static_cast<float>(double(grid.volume) * 315.0 / (64.0 * std::numbers::pi * h * h * h));
 
-    // Only the lanes the stored bricks span are cleared (a row of 16 bricks is 157 KB of samples).
-    alignas(64) float acc[kGroupEdge * kGroupEdge * kLanes];
+    // Only the lanes the stored bricks span are cleared (a group is 180 KB of samples).
+    alignas(64) float acc[kGroupEdgeZ * kGroupEdgeY * kLanes];
     std::uint32_t first, last;
     stored_lanes(grid, a0, b0, c0, na, nb, nc, brick_slot, first, last);
     for (int k = 0; k <= ez; ++k)
-        for (std::uint32_t j = 0; j < kGroupEdge; ++j) {
-            float* row = acc + (std::size_t(k) * kGroupEdge + j) * kLanes;
+        for (std::uint32_t j = 0; j < kGroupEdgeY; ++j) {
+            float* row = acc + (std::size_t(k) * kGroupEdgeY + j) * kLanes;
             std::fill(row + first, row + last, 0.0f);
         }
-    const GroupFrame g{sx, sy, sz, inv_voxel, h_voxels, inv_h2};
+    const GroupFrame g{sx,
+                       sy,
+                       sz,
+                       inv_voxel,
+                       h_voxels,
+                       inv_h2,
+                       {grid.ox, grid.voxel, i0, int(na * kBrickCells)},
+                       {grid.oy, grid.voxel, j0, int(nb * kBrickCells)},
+                       {grid.oz, grid.voxel, k0, ez}};
     const GroupOut o{grid, a0, b0, c0, na, nb, nc, brick_slot, atlas, slot_min, slot_max, scale};
     if (cpu_has_avx2())
         splat_group_avx2(g, sorted, entries.data(), bin_start[group], bin_start[group + 1], o, acc);

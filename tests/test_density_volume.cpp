@@ -131,17 +131,18 @@ TEST(DensityVolume, OnlyBricksParticlesReachAreStoredAndSharedFacesAgree) {
         }
 }
 
-TEST(DensityVolume, EverySampleIsTheDirectSumAcrossGroupsOnEveryAxis) {
-    // A box of random particles several brick groups long on every axis (and at h / voxel = 4.4, rows
-    // of nine samples), against eq. 3 summed in double by scattering each particle over the lattice.
+// A box of random particles (lx x ly x lz, n of them) several brick groups long on every axis, against
+// eq. 3 summed in double by scattering each particle over the lattice; and every face two stored bricks
+// share has the same bits in both.
+void expect_direct_sums(float voxel, float lx, float ly, float lz, std::uint32_t count) {
     VolumeSettings s;
     s.radius = 0.011f;
-    s.voxel = 0.01f;
+    s.voxel = voxel;
     s.max_dim = 512;
     Cloud c;
-    for (std::uint32_t i = 0; i < 4000; ++i)
-        c.add(3.0f * counter_uniform(11, 0, i, 0), 0.3f * counter_uniform(11, 0, i, 1),
-              0.3f * counter_uniform(11, 0, i, 2));
+    for (std::uint32_t i = 0; i < count; ++i)
+        c.add(lx * counter_uniform(11, 0, i, 0), ly * counter_uniform(11, 0, i, 1),
+              lz * counter_uniform(11, 0, i, 2));
     DensityVolume vol;
     build(c, s, vol);
     const DensityVolumeView v = vol.view();
@@ -208,6 +209,18 @@ TEST(DensityVolume, EverySampleIsTheDirectSumAcrossGroupsOnEveryAxis) {
     EXPECT_GT(shared[0], 100);
     EXPECT_GT(shared[1], 100);
     EXPECT_GT(shared[2], 100);
+}
+
+TEST(DensityVolume, EverySampleIsTheDirectSumAcrossGroupsOnEveryAxis) {
+    // h / voxel = 4.4: rows of eight or nine samples, one or two vectors.
+    expect_direct_sums(0.01f, 3.0f, 0.3f, 0.3f, 4000);
+}
+
+TEST(DensityVolume, EverySampleIsTheDirectSumWhereTheKernelSpansTwoOrElevenVoxels) {
+    // h / voxel = 2.2 (rows of four or five samples, a few rows a slice) and 11 (rows of 22 samples,
+    // three vectors, more rows a slice than the unrolled cases).
+    expect_direct_sums(0.02f, 4.0f, 0.8f, 0.8f, 3000);
+    expect_direct_sums(0.004f, 1.2f, 0.2f, 0.2f, 600);
 }
 
 TEST(DensityVolume, SameBytesAtOneAndTwoThreads) {

@@ -57,11 +57,12 @@ VolumeBuilder::VolumeBuilder(const VolumeSettings& settings, std::size_t max_par
     const std::size_t per_axis = settings.max_dim / kBrickCells;
     max_grid_bricks_ = per_axis * per_axis * per_axis;
     const std::size_t groups_x = (per_axis + kGroupBricksX - 1) / kGroupBricksX,
-                      groups_yz = (per_axis + kGroupBricks - 1) / kGroupBricks;
-    max_groups_ = groups_x * groups_yz * groups_yz;
+                      groups_y = (per_axis + kGroupBricksY - 1) / kGroupBricksY,
+                      groups_z = (per_axis + kGroupBricksZ - 1) / kGroupBricksZ;
+    max_groups_ = groups_x * groups_y * groups_z;
     const std::size_t n = std::max<std::size_t>(max_particles, 1);
-    // Entries: about 2.5 per particle at the default kernel and voxel (a particle reaches about 1.5
-    // groups along y and z, rarely two along x); grown by offsets() when a frame needs more.
+    // Entries: about 2.1 per particle at the default kernel and voxel (1.5 where the voxel grew and the
+    // kernel spans about two); grown by offsets() when a frame needs more.
     entries_.reserve(3 * n);
     const std::size_t rows = chunk_row(max_groups_) * kMaxChunks;
     counts_.reserve(rows), cursors_.reserve(rows), masks_.reserve(rows);
