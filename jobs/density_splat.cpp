@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -264,10 +265,12 @@ struct GroupFrame {
     const float* sz;  // kGroupEdgeZ + 8
     float inv_voxel, h_voxels, inv_h2;
     GroupAxis ax, ay, az;
+    float mass_over_volume;  // the particles' mass over grid.volume: a particle's weight times its density
 };
 struct Particle {
     float x, y, z;
     int ia, ja, jb, ka, kb;  // sample ranges it can reach; x: [ia, ia + L vectors)
+    float weight;            // V_j / grid.volume (1 unless the particles' volumes are given)
 };
 
 // d = max(d, 0) per lane as maxps does it (0 where d is not above 0, NaN included): one instruction,
@@ -315,9 +318,10 @@ RIVULET_INLINE void squared_distances(const float* s, float c, float inv_h2, int
 // rows' count slice by slice, a mispredicted branch per slice that cost more than the rows it saved.
 // Every lane does the same IEEE operations in the same order whatever L (max as maxps: 0 where
 // qz - dx2 - dy2 is not above 0), so the baseline (L = 4) and AVX2 (L = 8) builds give the same bytes.
-template <int L, int N, int R>
+template <int L, int N, int R, bool kWeighted>
 RIVULET_INLINE void splat_rows(const GroupFrame& g, const Particle& p, int vectors, float* acc) {
     using V = typename VectorLanes<L>::f;
+    const V weight = p.weight - V{};
     constexpr int kMaxVectors = N > 0 ? N : int(kLanes) / L;
     const int n = N > 0 ? N : vectors;
     const V zero = V{}, pxv = p.x - V{}, inv_h2v = g.inv_h2 - V{}, one = 1.0f - V{};
@@ -347,7 +351,10 @@ RIVULET_INLINE void splat_rows(const GroupFrame& g, const Particle& p, int vecto
                 clamp_positive<L>(q, zero);
                 V sum;
                 std::memcpy(&sum, row + L * v, sizeof sum);
-                sum += q * q * q;
+                if constexpr (kWeighted)
+                    sum += q * q * q * weight;
+                else
+                    sum += q * q * q;
                 std::memcpy(row + L * v, &sum, sizeof sum);
             }
     }
@@ -356,14 +363,14 @@ RIVULET_INLINE void splat_rows(const GroupFrame& g, const Particle& p, int vecto
 // A particle whose rows are one vector each, with as many rows per slice as the kernel spans at most
 // 2 to 9 voxels (R): the rows' loop unrolled, with no count to test (a loop's test and step were
 // a third of a row's instructions).
-template <int L, int R = 2>
+template <int L, bool kWeighted, int R = 2>
 RIVULET_INLINE void splat_rows_of_one(const GroupFrame& g, const Particle& q, float* acc) {
     if constexpr (R > 9)
-        splat_rows<L, 1, 0>(g, q, 1, acc);
+        splat_rows<L, 1, 0, kWeighted>(g, q, 1, acc);
     else if (q.jb - q.ja + 1 == R)
-        splat_rows<L, 1, R>(g, q, 1, acc);
+        splat_rows<L, 1, R, kWeighted>(g, q, 1, acc);
     else
-        splat_rows_of_one<L, R + 1>(g, q, acc);
+        splat_rows_of_one<L, kWeighted, R + 1>(g, q, acc);
 }
 
 // Particles set up a block at a time: their ranges found in lanes, away from the rows' sums.
@@ -386,11 +393,13 @@ RIVULET_INLINE void axis_ranges(const GroupAxis& a, const float* c, std::uint32_
     }
 }
 
-// A group's particles summed into `acc`, L samples of a row at a time.
-template <int L>
-RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, const std::uint32_t* entries,
+// A group's particles summed into `acc`, L samples of a row at a time, each weighted by its volume over
+// the grid's where kWeighted.
+template <int L, bool kWeighted>
+RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted,
+                                    const ParticleVolumes& volumes, const std::uint32_t* entries,
                                     std::uint32_t begin, std::uint32_t end, float* acc) {
-    float x[kSetupBlock], y[kSetupBlock], z[kSetupBlock];
+    float x[kSetupBlock], y[kSetupBlock], z[kSetupBlock], weight[kSetupBlock];
     int ia[kSetupBlock], ib[kSetupBlock], ja[kSetupBlock], jb[kSetupBlock], ka[kSetupBlock], kb[kSetupBlock];
     int reached[kSetupBlock];
     for (std::uint32_t start = begin; start < end; start += kSetupBlock) {
@@ -398,26 +407,31 @@ RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted, 
         for (std::uint32_t i = 0; i < n; ++i) {
             const std::uint32_t e = entries[start + i];
             x[i] = sorted.x[e], y[i] = sorted.y[e], z[i] = sorted.z[e], reached[i] = 1;
+            weight[i] = 1.0f;
+            if constexpr (kWeighted) {
+                const float d = volumes.density[e];
+                if (d > 0.0f && d <= std::numeric_limits<float>::max()) weight[i] = g.mass_over_volume / d;
+            }
         }
         axis_ranges(g.ax, x, n, g.sx[0], g.inv_voxel, g.h_voxels, g.inv_h2, ia, ib, reached);
         axis_ranges(g.ay, y, n, g.sy[0], g.inv_voxel, g.h_voxels, g.inv_h2, ja, jb, reached);
         axis_ranges(g.az, z, n, g.sz[0], g.inv_voxel, g.h_voxels, g.inv_h2, ka, kb, reached);
         for (std::uint32_t i = 0; i < n; ++i) {
             if (!reached[i]) continue;
-            const Particle q{x[i], y[i], z[i], ia[i], ja[i], jb[i], ka[i], kb[i]};
+            const Particle q{x[i], y[i], z[i], ia[i], ja[i], jb[i], ka[i], kb[i], weight[i]};
             const int vectors = (ib[i] - ia[i]) / L + 1;
             switch (vectors) {
                 case 1:
-                    splat_rows_of_one<L>(g, q, acc);
+                    splat_rows_of_one<L, kWeighted>(g, q, acc);
                     break;
                 case 2:
-                    splat_rows<L, 2, 0>(g, q, 2, acc);
+                    splat_rows<L, 2, 0, kWeighted>(g, q, 2, acc);
                     break;
                 case 3:
-                    splat_rows<L, 3, 0>(g, q, 3, acc);
+                    splat_rows<L, 3, 0, kWeighted>(g, q, 3, acc);
                     break;
                 default:
-                    splat_rows<L, 0, 0>(g, q, vectors, acc);
+                    splat_rows<L, 0, 0, kWeighted>(g, q, vectors, acc);
                     break;
             }
         }
@@ -466,9 +480,13 @@ RIVULET_INLINE void copy_out_brick(const GroupOut& o, const float* base, std::ui
 
 // A group's particles summed into `acc`, then copied out to its stored bricks.
 template <int L>
-RIVULET_INLINE void splat_group(const GroupFrame& g, ConstPositions sorted, const std::uint32_t* entries,
-                                std::uint32_t begin, std::uint32_t end, const GroupOut& o, float* acc) {
-    splat_particles<L>(g, sorted, entries, begin, end, acc);
+RIVULET_INLINE void splat_group(const GroupFrame& g, ConstPositions sorted, const ParticleVolumes& volumes,
+                                const std::uint32_t* entries, std::uint32_t begin, std::uint32_t end,
+                                const GroupOut& o, float* acc) {
+    if (volumes.given())
+        splat_particles<L, true>(g, sorted, volumes, entries, begin, end, acc);
+    else
+        splat_particles<L, false>(g, sorted, volumes, entries, begin, end, acc);
     for (std::uint32_t lc = 0; lc < o.nc; ++lc)
         for (std::uint32_t lb = 0; lb < o.nb; ++lb)
             for (std::uint32_t la = 0; la < o.na; ++la) {
@@ -481,9 +499,10 @@ RIVULET_INLINE void splat_group(const GroupFrame& g, ConstPositions sorted, cons
             }
 }
 
-RIVULET_AVX2 void splat_group_avx2(const GroupFrame& g, ConstPositions sorted, const std::uint32_t* entries,
-                                   std::uint32_t begin, std::uint32_t end, const GroupOut& o, float* acc) {
-    splat_group<8>(g, sorted, entries, begin, end, o, acc);
+RIVULET_AVX2 void splat_group_avx2(const GroupFrame& g, ConstPositions sorted, const ParticleVolumes& volumes,
+                                   const std::uint32_t* entries, std::uint32_t begin, std::uint32_t end,
+                                   const GroupOut& o, float* acc) {
+    splat_group<8>(g, sorted, volumes, entries, begin, end, o, acc);
 }
 
 // Lanes [first, last) of the group's rows that its stored bricks' samples and the vectors of the rows
@@ -504,9 +523,9 @@ void stored_lanes(const DensityGrid& grid, std::uint32_t a0, std::uint32_t b0, s
 }  // namespace
 
 void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions sorted,
-                         std::span<const std::uint32_t> entries, std::span<const std::uint32_t> bin_start,
-                         std::span<const std::int32_t> brick_slot, std::span<float> atlas,
-                         std::span<float> slot_min, std::span<float> slot_max) {
+                         const ParticleVolumes& volumes, std::span<const std::uint32_t> entries,
+                         std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
+                         std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max) {
     const DensityGroups gs = density_groups(grid);
     const std::uint32_t ga = group % gs.gx, gb = (group / gs.gx) % gs.gy, gc = group / (gs.gx * gs.gy);
     const std::uint32_t a0 = ga * kGroupBricksX, b0 = gb * kGroupBricksY, c0 = gc * kGroupBricksZ;
@@ -549,12 +568,13 @@ void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPosi
                        inv_h2,
                        {grid.ox, grid.voxel, i0, int(na * kBrickCells)},
                        {grid.oy, grid.voxel, j0, int(nb * kBrickCells)},
-                       {grid.oz, grid.voxel, k0, ez}};
+                       {grid.oz, grid.voxel, k0, ez},
+                       volumes.mass / grid.volume};
     const GroupOut o{grid, a0, b0, c0, na, nb, nc, brick_slot, atlas, slot_min, slot_max, scale};
     if (cpu_has_avx2())
-        splat_group_avx2(g, sorted, entries.data(), bin_start[group], bin_start[group + 1], o, acc);
+        splat_group_avx2(g, sorted, volumes, entries.data(), bin_start[group], bin_start[group + 1], o, acc);
     else
-        splat_group<4>(g, sorted, entries.data(), bin_start[group], bin_start[group + 1], o, acc);
+        splat_group<4>(g, sorted, volumes, entries.data(), bin_start[group], bin_start[group + 1], o, acc);
 }
 
 }  // namespace rivulet

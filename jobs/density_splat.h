@@ -84,14 +84,15 @@ std::uint32_t density_allocate_bricks(const DensityGrid& grid, std::span<const G
                                       std::span<std::int32_t> brick_slot, std::span<std::uint32_t> slot_brick,
                                       std::span<std::uint32_t> groups_out, std::uint32_t& group_count);
 
-// One group: sums V W_poly6 of the particles of `p` it lists (entries [bin_start[group],
-// bin_start[group + 1])),
-// in order, into its samples, and writes every stored brick of it (brick_slot) to its atlas slot, with
-// its least and greatest samples to slot_min / slot_max. Runs an AVX2 build where the CPU has it
-// (jobs/cpu_dispatch.h; RIVULET_NO_AVX2=1 forces the baseline), the same bytes either way.
+// One group: sums V_j W_poly6 of the particles of `p` it lists (entries [bin_start[group],
+// bin_start[group + 1])), in order, into its samples, and writes every stored brick of it (brick_slot) to
+// its atlas slot, with its least and greatest samples to slot_min / slot_max. V_j is grid.volume, or
+// volumes.mass / volumes.density[j] where given (a density that is not positive and finite: grid.volume).
+// Runs an AVX2 build where the CPU has it (jobs/cpu_dispatch.h; RIVULET_NO_AVX2=1 forces the baseline),
+// the same bytes either way.
 void density_splat_group(const DensityGrid& grid, std::uint32_t group, ConstPositions p,
-                         std::span<const std::uint32_t> entries, std::span<const std::uint32_t> bin_start,
-                         std::span<const std::int32_t> brick_slot, std::span<float> atlas,
-                         std::span<float> slot_min, std::span<float> slot_max);
+                         const ParticleVolumes& volumes, std::span<const std::uint32_t> entries,
+                         std::span<const std::uint32_t> bin_start, std::span<const std::int32_t> brick_slot,
+                         std::span<float> atlas, std::span<float> slot_min, std::span<float> slot_max);
 
 }  // namespace rivulet

@@ -14,6 +14,14 @@ struct ConstPositions {
     }
 };
 
+// Each particle's volume V_j = mass / density_j, where a simulation gives them (SPH); no densities: the
+// consumer's own (e.g. from the particle radius). Densities are per particle, in the positions' order.
+struct ParticleVolumes {
+    std::span<const float> density;
+    float mass = 0;
+    bool given() const { return !density.empty(); }
+};
+
 struct ParticleSpans {
     std::span<float> x, y, z, vx, vy, vz;
     std::span<std::uint32_t> id;

@@ -19,13 +19,15 @@ namespace {
 
 using Cloud = test::PointCloud;
 
-// Builds the volume of `cloud` with the frame's jobs on `threads` workers.
-void build(const Cloud& cloud, const VolumeSettings& s, DensityVolume& out, int threads = 2) {
+// Builds the volume of `cloud` with the frame's jobs on `threads` workers (V_j from `volumes` where given).
+void build(const Cloud& cloud, const VolumeSettings& s, DensityVolume& out, int threads = 2,
+           ParticleVolumes volumes = {}) {
     VolumeBuilder builder(s, cloud.x.size());
     builder.prepare(out);
     FrameGraph graph;
     add_volume_jobs(
-        graph, builder, [&cloud] { return cloud.pos(); }, [&out]() -> DensityVolume& { return out; });
+        graph, builder, [&cloud] { return cloud.pos(); }, [&out]() -> DensityVolume& { return out; }, {},
+        [volumes] { return volumes; });
     tbb::task_arena arena(threads);
     arena.execute([&] { graph.run(); });
 }
@@ -133,8 +135,10 @@ TEST(DensityVolume, OnlyBricksParticlesReachAreStoredAndSharedFacesAgree) {
 
 // A box of random particles (lx x ly x lz, n of them) several brick groups long on every axis, against
 // eq. 3 summed in double by scattering each particle over the lattice; and every face two stored bricks
-// share has the same bits in both.
-void expect_direct_sums(float voxel, float lx, float ly, float lz, std::uint32_t count) {
+// share has the same bits in both. With own_volumes each particle has its own volume, mass / density, the
+// densities spread over 0.5-1.5 times the rest density.
+void expect_direct_sums(float voxel, float lx, float ly, float lz, std::uint32_t count,
+                        bool own_volumes = false) {
     VolumeSettings s;
     s.radius = 0.011f;
     s.voxel = voxel;
@@ -143,8 +147,11 @@ void expect_direct_sums(float voxel, float lx, float ly, float lz, std::uint32_t
     for (std::uint32_t i = 0; i < count; ++i)
         c.add(lx * counter_uniform(11, 0, i, 0), ly * counter_uniform(11, 0, i, 1),
               lz * counter_uniform(11, 0, i, 2));
+    std::vector<float> density(count, 0.0f);
+    const float rest = 1000.0f, mass = rest * s.particle_volume();
+    for (std::uint32_t i = 0; i < count; ++i) density[i] = rest * (0.5f + counter_uniform(11, 0, i, 3));
     DensityVolume vol;
-    build(c, s, vol);
+    build(c, s, vol, 2, own_volumes ? ParticleVolumes{density, mass} : ParticleVolumes{});
     const DensityVolumeView v = vol.view();
     const DensityGroups groups = density_groups(v.grid);
     ASSERT_GE(groups.gx, 2u);
@@ -153,8 +160,9 @@ void expect_direct_sums(float voxel, float lx, float ly, float lz, std::uint32_t
 
     const std::uint32_t nx = v.grid.samples_x(), ny = v.grid.samples_y(), nz = v.grid.samples_z();
     std::vector<double> direct(std::size_t(nx) * ny * nz, 0.0);
-    const double h = s.h(), scale = s.particle_volume() * 315.0 / (64.0 * std::numbers::pi * std::pow(h, 9));
+    const double h = s.h(), scale = 315.0 / (64.0 * std::numbers::pi * std::pow(h, 9));
     for (std::size_t p = 0; p < c.size(); ++p) {
+        const double volume = own_volumes ? double(mass) / double(density[p]) : double(s.particle_volume());
         const auto span = [&](float x, float o, std::uint32_t n, int& lo, int& hi) {
             lo = std::max(0, int(std::floor((x - h - o) / v.grid.voxel)));
             hi = std::min(int(n) - 1, int(std::ceil((x + h - o) / v.grid.voxel)));
@@ -169,7 +177,8 @@ void expect_direct_sums(float voxel, float lx, float ly, float lz, std::uint32_t
                                  dz = double(v.grid.z(k)) - c.z[p];
                     const double r2 = dx * dx + dy * dy + dz * dz;
                     if (r2 < h * h)
-                        direct[(std::size_t(k) * ny + j) * nx + i] += scale * std::pow(h * h - r2, 3);
+                        direct[(std::size_t(k) * ny + j) * nx + i] +=
+                            volume * scale * std::pow(h * h - r2, 3);
                 }
     }
     double peak = 0;
@@ -214,6 +223,12 @@ void expect_direct_sums(float voxel, float lx, float ly, float lz, std::uint32_t
 TEST(DensityVolume, EverySampleIsTheDirectSumAcrossGroupsOnEveryAxis) {
     // h / voxel = 4.4: rows of eight or nine samples, one or two vectors.
     expect_direct_sums(0.01f, 3.0f, 0.3f, 0.3f, 4000);
+}
+
+TEST(DensityVolume, EachParticlesOwnVolumeWhereTheSimulationGivesMassAndDensity) {
+    // V_j = mass / density_j (the SPH scenes' volumes), densities from half to one and a half the rest.
+    expect_direct_sums(0.01f, 3.0f, 0.3f, 0.3f, 4000, true);
+    expect_direct_sums(0.004f, 1.2f, 0.2f, 0.2f, 600, true);
 }
 
 TEST(DensityVolume, EverySampleIsTheDirectSumWhereTheKernelSpansTwoOrElevenVoxels) {

@@ -186,6 +186,11 @@ const VideoWriter* FramePipeline::video() const {
 void FramePipeline::build_graph() {
     sim_end_ = sim_->add_jobs(graph_);
     const auto positions = [this] { return sim_->particles().positions(); };
+    if (sim_->sph())
+        surface_->use_particle_volumes([this] {
+            const SphSimulation& sph = *sim_->sph();
+            return ParticleVolumes{sph.density(), sph.particle_mass()};
+        });
     const FrameGraph::JobId surface = surface_->add_jobs(
         graph_, positions, [this] { return target_slot_; }, sim_end_);
     // Hand-over data of the slot: pool heights copied (the simulation moves on), counters, hash.

@@ -50,6 +50,9 @@ class SurfaceSystem {
     // are asked when each job runs: the particles of the frame and the slot to write.
     virtual FrameGraph::JobId add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                        std::function<int()> slot, FrameGraph::JobId after) = 0;
+    // The particles' own volumes where the scene's simulation gives them (SPH: mass / density), asked when
+    // each job runs; set before add_jobs. Only the density volume uses them (its V_j); the rest ignore them.
+    virtual void use_particle_volumes(std::function<ParticleVolumes()>) {}
     // Of the frame in `slot`; read once the graph that filled it has finished and before it runs again
     // (a method may keep per-frame counts of its last frame only).
     virtual SurfaceStats stats(int slot) const = 0;

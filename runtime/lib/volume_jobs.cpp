@@ -5,8 +5,10 @@ namespace rivulet {
 FrameGraph::JobId add_volume_jobs(FrameGraph& graph, VolumeBuilder& builder,
                                   std::function<ConstPositions()> positions,
                                   std::function<DensityVolume&()> out,
-                                  std::initializer_list<FrameGraph::JobId> after) {
+                                  std::initializer_list<FrameGraph::JobId> after,
+                                  std::function<ParticleVolumes()> volumes) {
     VolumeBuilder* b = &builder;
+    if (!volumes) volumes = [] { return ParticleVolumes{}; };
     const auto chunks = [b, positions] { return b->chunks(positions().size()); };
     const FrameGraph::JobId bounds = graph.parallel(
         "volume.bounds", chunks, [b, positions](std::size_t c) { b->bounds_chunk(positions(), c); }, after);
@@ -24,7 +26,10 @@ FrameGraph::JobId add_volume_jobs(FrameGraph& graph, VolumeBuilder& builder,
         graph.serial("volume.allocate", [b, out] { b->allocate(out()); }, {scatter});
     return graph.parallel(
         "volume.splat", [b, out] { return b->splat_items(out()); },
-        [b, positions, out](std::size_t item) { b->splat_item(out(), positions(), item); }, {allocate});
+        [b, positions, out, volumes](std::size_t item) {
+            b->splat_item(out(), positions(), volumes(), item);
+        },
+        {allocate});
 }
 
 }  // namespace rivulet

@@ -22,7 +22,8 @@ VolumeSurface::VolumeSurface(const VolumeSettings& settings, const VolumeRaycast
 FrameGraph::JobId VolumeSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                           std::function<int()> slot, FrameGraph::JobId after) {
     const FrameGraph::JobId splat = add_volume_jobs(
-        graph, builder_, positions, [this, slot]() -> DensityVolume& { return volume_[slot()]; }, {after});
+        graph, builder_, positions, [this, slot]() -> DensityVolume& { return volume_[slot()]; }, {after},
+        volumes_);
     return graph.parallel(
         "volume.stage", [positions] { return staging_items(positions().size(), kStageChunk); },
         [this, positions, slot](std::size_t c) {

@@ -4,6 +4,8 @@
 // (runtime/lib/volume_jobs.h) and stage the particle centres for the key light's shadow (volume.stage);
 // the render thread uploads the volume and raycasts its iso-surface (systems/render/volume_pass.h). No
 // mesh is made.
+#include <utility>
+
 #include "runtime/lib/surface_system.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/render/volume_pass.h"
@@ -22,6 +24,9 @@ class VolumeSurface final : public SurfaceSystem {
     SurfaceMethod method() const override { return SurfaceMethod::kVolume; }
     FrameGraph::JobId add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                std::function<int()> slot, FrameGraph::JobId after) override;
+    void use_particle_volumes(std::function<ParticleVolumes()> volumes) override {
+        volumes_ = std::move(volumes);
+    }
     // `groups`: stored bricks.
     SurfaceStats stats(int slot) const override;
     // The volume's (DensityVolume::hash); the staged centres only cast shadows.
@@ -37,6 +42,7 @@ class VolumeSurface final : public SurfaceSystem {
         std::size_t count = 0;
     };
     VolumeBuilder builder_;
+    std::function<ParticleVolumes()> volumes_;  // none: V from the radius
     VolumeRaycastSettings raycast_;
     std::size_t max_particles_;
     std::array<DensityVolume, kFrameSlots> volume_;

@@ -157,16 +157,17 @@ std::size_t VolumeBuilder::splat_items(const DensityVolume&) const {
     return std::max<std::size_t>((splat_groups_ + kSplatGroups - 1) / kSplatGroups, 1);
 }
 
-void VolumeBuilder::splat_item(DensityVolume& out, ConstPositions p, std::size_t item) const {
+void VolumeBuilder::splat_item(DensityVolume& out, ConstPositions p, const ParticleVolumes& volumes,
+                               std::size_t item) const {
     const std::span<const std::uint32_t> entries = entries_.span(bin_start_[frame_groups_]);
     const std::span<float> atlas = out.atlas.span(out.atlas.capacity());
     const std::size_t first = item * kSplatGroups,
                       last = std::min<std::size_t>(first + kSplatGroups, splat_groups_);
     const std::uint32_t bricks = out.grid.bricks();
     for (std::size_t i = first; i < last; ++i)
-        density_splat_group(out.grid, splat_group_[i], p, entries, bin_start_.span(frame_groups_ + 1),
-                            out.brick_slot.span(bricks), atlas, out.slot_min.span(out.stored),
-                            out.slot_max.span(out.stored));
+        density_splat_group(out.grid, splat_group_[i], p, volumes, entries,
+                            bin_start_.span(frame_groups_ + 1), out.brick_slot.span(bricks), atlas,
+                            out.slot_min.span(out.stored), out.slot_max.span(out.stored));
 }
 
 }  // namespace rivulet

@@ -52,7 +52,9 @@ class VolumeBuilder {
     // Serial: atlas slots for the bricks particles reach; throws std::runtime_error past max_bricks.
     void allocate(DensityVolume& out);
     std::size_t splat_items(const DensityVolume& out) const;
-    void splat_item(DensityVolume& out, ConstPositions p, std::size_t item) const;
+    // V_j from the radius (the settings), or mass / density where `volumes` gives them.
+    void splat_item(DensityVolume& out, ConstPositions p, const ParticleVolumes& volumes,
+                    std::size_t item) const;
 
   private:
     VolumeSettings settings_;
