@@ -380,9 +380,9 @@ constexpr std::uint32_t kSetupBlock = 64;
 // sample at h or beyond dropped (q <= 0 whatever the other axes: a particle on a sample plane reaches one
 // more each side; the margin is far below a sample, so only the end sample can be one). reached[i] &=
 // whether any sample is in range. Branch-free over arrays, so the compiler does it in lanes.
-RIVULET_INLINE void axis_ranges(const GroupAxis& a, const float* c, std::uint32_t n, float s0,
-                                float inv_voxel, float h_voxels, float inv_h2, int* first, int* last,
-                                int* reached) {
+RIVULET_INLINE void axis_ranges(const GroupAxis& a, const float* c, std::uint32_t n, float inv_voxel,
+                                float h_voxels, float inv_h2, int* first, int* last, int* reached) {
+    const float s0 = a.at(0);
     for (std::uint32_t i = 0; i < n; ++i) {
         int f, l;
         const int ok = sample_range((c[i] - s0) * inv_voxel, h_voxels, a.edge, f, l);
@@ -413,9 +413,9 @@ RIVULET_INLINE void splat_particles(const GroupFrame& g, ConstPositions sorted,
                 if (d > 0.0f && d <= std::numeric_limits<float>::max()) weight[i] = g.mass_over_volume / d;
             }
         }
-        axis_ranges(g.ax, x, n, g.sx[0], g.inv_voxel, g.h_voxels, g.inv_h2, ia, ib, reached);
-        axis_ranges(g.ay, y, n, g.sy[0], g.inv_voxel, g.h_voxels, g.inv_h2, ja, jb, reached);
-        axis_ranges(g.az, z, n, g.sz[0], g.inv_voxel, g.h_voxels, g.inv_h2, ka, kb, reached);
+        axis_ranges(g.ax, x, n, g.inv_voxel, g.h_voxels, g.inv_h2, ia, ib, reached);
+        axis_ranges(g.ay, y, n, g.inv_voxel, g.h_voxels, g.inv_h2, ja, jb, reached);
+        axis_ranges(g.az, z, n, g.inv_voxel, g.h_voxels, g.inv_h2, ka, kb, reached);
         for (std::uint32_t i = 0; i < n; ++i) {
             if (!reached[i]) continue;
             const Particle q{x[i], y[i], z[i], ia[i], ja[i], jb[i], ka[i], kb[i], weight[i]};

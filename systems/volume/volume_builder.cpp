@@ -159,6 +159,8 @@ std::size_t VolumeBuilder::splat_items(const DensityVolume&) const {
 
 void VolumeBuilder::splat_item(DensityVolume& out, ConstPositions p, const ParticleVolumes& volumes,
                                std::size_t item) const {
+    if (volumes.given() && volumes.density.size() < p.size())
+        throw std::logic_error("VolumeBuilder::splat_item: fewer densities than particles");
     const std::span<const std::uint32_t> entries = entries_.span(bin_start_[frame_groups_]);
     const std::span<float> atlas = out.atlas.span(out.atlas.capacity());
     const std::size_t first = item * kSplatGroups,
