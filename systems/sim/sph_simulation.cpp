@@ -331,6 +331,8 @@ void SphSimulation::seed(ParticleSet& ps) {
     offset_begin_ = offset_end_ = offset_now_ = scripted_offset(0.0);
     for (std::size_t c = 0; c < chunks_; ++c) chunk_a2_[c] = 0, chunk_v2_[c] = 0;
     for (std::size_t i = 0; i < n_; ++i) rho_[i] = desc_.rest_density, p_[i] = 0;
+    if (desc_.solver == SphSolver::kDfsph)  // the first substep's warm start reads them, scaled by zero
+        for (std::size_t i = 0; i < n_; ++i) k_div_last_[i] = 0, k_den_last_[i] = 0;
     last_phase_ = kPhaseCount;
     divergence_iterations_ = density_iterations_ = 0;
     density_error_ = 0;
