@@ -73,6 +73,9 @@ def test_simulate_yields_each_frame_deterministically():
     assert len(frames) == 3
     for a, b in zip(frames, again):
         assert a.dtype == np.float32 and a.shape[1] == 3 and len(a) > 1000
+        # Equal NaNs would compare equal: every particle is a real point inside the 1 x 0.75 x 0.3 m tank.
+        assert np.isfinite(a).all()
+        assert (a > -1e-3).all() and (a < np.array([1.0, 0.75, 0.3]) + 1e-3).all()
         np.testing.assert_array_equal(a, b)
     assert not np.array_equal(frames[0], frames[2])  # the column falls
     assert "dambreak" in rivulet.scenes()
