@@ -3,6 +3,13 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+
+#include "jobs/vector_lanes.h"
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 namespace rivulet {
 namespace {
@@ -15,27 +22,88 @@ void write_sphere(KernelShapes& out, std::size_t i) {
     out.sxy[i] = out.gx[i] = out.gy[i] = 0.0f;
 }
 
+inline VectorLanes<4>::f sqrt4(const VectorLanes<4>::f& x) {
+#if defined(__SSE2__)
+    return _mm_sqrt_ps(x);  // correctly rounded, as std::sqrt
+#else
+    VectorLanes<4>::f r;
+    for (int k = 0; k < 4; ++k) r[k] = std::sqrt(x[k]);
+    return r;
+#endif
+}
+
+// The weighted sums of a particle's neighbours within the radius: w, w d and w d d^T (its six distinct
+// entries), d the offset from the particle (so no cancellation in C), w = 1 - (|d| / radius)^3. Four
+// candidates a vector in bucket order (the cells wholly beyond the radius skipped), those outside the
+// radius weighted 0 (no branch: about one in five candidates is a neighbour, at random), each lane's sums
+// in float, the lanes added in double in a fixed order: the same bits whoever runs it.
+struct NeighbourSums {
+    double w = 0, x = 0, y = 0, z = 0, xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+    std::uint32_t count = 0;
+};
+
+NeighbourSums neighbour_sums(const CellHash& hash, float x, float y, float z, float radius) {
+    using fv = VectorLanes<4>::f;
+    using iv = VectorLanes<4>::i;
+    const fv vx = fv{} + x, vy = fv{} + y, vz = fv{} + z, vr2 = fv{} + radius * radius;
+    const fv inv_r = fv{} + 1.0f / radius, one = fv{} + 1.0f, zero = fv{};
+    fv w{}, sx{}, sy{}, sz{}, sxx{}, sxy{}, sxz{}, syy{}, syz{}, szz{};
+    iv count{};
+    const auto add = [&](const fv& px, const fv& py, const fv& pz, const iv& valid) {
+        const fv dx = px - vx, dy = py - vy, dz = pz - vz;
+        const fv r2 = dx * dx + dy * dy + dz * dz;
+        const iv hit = valid & (r2 < vr2);
+        const fv q = sqrt4(r2) * inv_r;
+        const fv wl = hit ? one - q * q * q : zero;
+        const fv wx = wl * dx, wy = wl * dy, wz = wl * dz;
+        w += wl, sx += wx, sy += wy, sz += wz;
+        sxx += wx * dx, sxy += wx * dy, sxz += wx * dz, syy += wy * dy, syz += wy * dz, szz += wz * dz;
+        count -= hit;
+    };
+    for_each_bucket_within(hash, x, y, z, radius, kMaxScan, [&](std::uint32_t begin, std::uint32_t end) {
+        std::uint32_t e = begin;
+        const iv all = iv{} - 1;
+        for (; e + 4 <= end; e += 4) {
+            fv px, py, pz;
+            std::memcpy(&px, hash.sx.data() + e, sizeof px);
+            std::memcpy(&py, hash.sy.data() + e, sizeof py);
+            std::memcpy(&pz, hash.sz.data() + e, sizeof pz);
+            add(px, py, pz, all);
+        }
+        if (e < end) {
+            fv px = vx, py = vy, pz = vz;
+            iv valid{};
+            for (std::uint32_t l = 0; e + l < end; ++l)
+                px[l] = hash.sx[e + l], py[l] = hash.sy[e + l], pz[l] = hash.sz[e + l], valid[l] = -1;
+            add(px, py, pz, valid);
+        }
+    });
+    const auto total = [](const fv& v) {
+        return (double(v[0]) + double(v[1])) + (double(v[2]) + double(v[3]));
+    };
+    return {total(w),
+            total(sx),
+            total(sy),
+            total(sz),
+            total(sxx),
+            total(sxy),
+            total(sxz),
+            total(syy),
+            total(syz),
+            total(szz),
+            std::uint32_t(count[0] + count[1] + count[2] + count[3])};
+}
+
 }  // namespace
 
 void anisotropic_kernels(ConstPositions p, const CellHash& hash, std::size_t begin, std::size_t end,
                          const AnisotropyParams& params, KernelShapes out) {
     const double radius = params.radius;
-    const float inv_r = 1.0f / params.radius;
-    const float r2_max = params.radius * params.radius;
     for (std::size_t i = begin; i < end; ++i) {
-        // Sums of w, w d and w d d^T (its six distinct entries), d the offset from particle i (so no
-        // cancellation in C), in double and in visiting order.
-        double wsum = 0, sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
-        std::uint32_t count = 0;
-        for_each_within(hash, p.x[i], p.y[i], p.z[i], r2_max, kMaxScan,
-                        [&](std::uint32_t, float dx, float dy, float dz, float r2) {
-                            const float q = std::sqrt(r2) * inv_r;
-                            const double w = double(1.0f - q * q * q), wx = w * dx, wy = w * dy, wz = w * dz;
-                            wsum += w, sx += wx, sy += wy, sz += wz;
-                            sxx += wx * dx, sxy += wx * dy, sxz += wx * dz, syy += wy * dy, syz += wy * dz,
-                                szz += wz * dz;
-                            ++count;
-                        });
+        const NeighbourSums n = neighbour_sums(hash, p.x[i], p.y[i], p.z[i], params.radius);
+        const double wsum = n.w, sx = n.x, sy = n.y, sz = n.z, sxx = n.xx, sxy = n.xy, sxz = n.xz, syy = n.yy,
+                     syz = n.yz, szz = n.zz;
+        const std::uint32_t count = n.count;
         const Eigen::Vector3d first(sx, sy, sz);
         Eigen::Matrix3d second;
         second << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;

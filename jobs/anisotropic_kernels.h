@@ -6,7 +6,8 @@
 //
 // Per particle i, over its neighbours j within `radius` (itself included), with weights
 // w = 1 - (|x_j - x_i| / radius)^3:
-//   - the weighted mean m_i and covariance C_i of the neighbours' positions (in double, in index order);
+//   - the weighted mean m_i and covariance C_i of the neighbours' positions (the sums in float lanes over
+//     the candidates in bucket order, the lanes added in double in a fixed order);
 //   - the smoothed centre x_i + smoothing (m_i - x_i) (their eq. 6, lambda = `smoothing`): averages the
 //     particles' jitter out of the centres, and pulls surface particles in towards their neighbours;
 //   - C_i = R diag(lambda_k) R^T by Eigen's SelfAdjointEigenSolver; as in the paper the axes follow the

@@ -78,13 +78,12 @@ inline bool first_visit(std::uint32_t b, std::uint32_t* seen, std::uint32_t& see
     return true;
 }
 
-// Calls visit(j, dx, dy, dz) with d = p[j] - p[i] for the particles in the buckets of the 27 cells around
-// particle i (i included), at most `max_scan` of them (more means a pile far denser than the cell, e.g.
-// coincident particles, which would otherwise make the caller quadratic).
-template <class Visit>
-void for_each_near(ConstPositions p, const CellHash& h, std::size_t i, std::uint32_t max_scan,
-                   Visit&& visit) {
-    const float x = p.x[i], y = p.y[i], z = p.z[i];
+// Calls run(begin, end) for each bucket of the 27 cells around (x, y, z), each bucket once: its entries
+// [begin, end) of `order` (and of the sorted coordinates), at most `max_scan` entries in all (more means a
+// pile far denser than the cell, e.g. coincident particles, which would otherwise make the caller
+// quadratic).
+template <class Run>
+void for_each_bucket_near(const CellHash& h, float x, float y, float z, std::uint32_t max_scan, Run&& run) {
     const std::int32_t ci = h.cell(x, h.ox), cj = h.cell(y, h.oy), ck = h.cell(z, h.oz);
     std::uint32_t seen[27], seen_n = 0, budget = max_scan;
     std::uint64_t seen_bits = 0;
@@ -93,17 +92,56 @@ void for_each_near(ConstPositions p, const CellHash& h, std::size_t i, std::uint
             for (std::int32_t di = -1; di <= 1; ++di) {
                 const std::uint32_t b = h.key(ci + di, cj + dj, ck + dk);
                 if (!first_visit(b, seen, seen_n, seen_bits)) continue;  // a shared bucket
-                const std::uint32_t end = std::min(h.heads[b + 1], h.heads[b] + budget);
-                budget -= end - h.heads[b];
-                if (!h.sx.empty())
-                    for (std::uint32_t e = h.heads[b]; e < end; ++e)
-                        visit(h.order[e], h.sx[e] - x, h.sy[e] - y, h.sz[e] - z);
-                else
-                    for (std::uint32_t e = h.heads[b]; e < end; ++e) {
-                        const std::uint32_t j = h.order[e];
-                        visit(j, p.x[j] - x, p.y[j] - y, p.z[j] - z);
-                    }
+                const std::uint32_t begin = h.heads[b], end = std::min(h.heads[b + 1], begin + budget);
+                budget -= end - begin;
+                run(begin, end);
             }
+}
+
+// for_each_bucket_near without the cells that lie wholly farther than `radius` from (x, y, z) (with cells
+// of edge `radius`, about a quarter of the 27: corners and edges). A bucket is marked visited only when
+// it is visited, so a bucket a culled cell shares with a nearer one is still run for the nearer one.
+template <class Run>
+void for_each_bucket_within(const CellHash& h, float x, float y, float z, float radius,
+                            std::uint32_t max_scan, Run&& run) {
+    const float fx = (x - h.ox) * h.inv, fy = (y - h.oy) * h.inv, fz = (z - h.oz) * h.inv;
+    const std::int32_t ci = h.cell(x, h.ox), cj = h.cell(y, h.oy), ck = h.cell(z, h.oz);
+    // Per axis, the squared distance in cell edges to the cell below, this one and the one above.
+    const float ux = fx - float(ci), uy = fy - float(cj), uz = fz - float(ck);
+    const float gap[3][3] = {{ux * ux, 0.0f, (1 - ux) * (1 - ux)},
+                             {uy * uy, 0.0f, (1 - uy) * (1 - uy)},
+                             {uz * uz, 0.0f, (1 - uz) * (1 - uz)}};
+    const float reach = radius * h.inv, reach2 = reach * reach * 1.0001f;  // rounding never culls a neighbour
+    std::uint32_t seen[27], seen_n = 0, budget = max_scan;
+    std::uint64_t seen_bits = 0;
+    for (std::int32_t dk = -1; dk <= 1; ++dk)
+        for (std::int32_t dj = -1; dj <= 1; ++dj)
+            for (std::int32_t di = -1; di <= 1; ++di) {
+                if (gap[0][di + 1] + gap[1][dj + 1] + gap[2][dk + 1] > reach2) continue;
+                const std::uint32_t b = h.key(ci + di, cj + dj, ck + dk);
+                if (!first_visit(b, seen, seen_n, seen_bits)) continue;  // a shared bucket
+                const std::uint32_t begin = h.heads[b], end = std::min(h.heads[b + 1], begin + budget);
+                budget -= end - begin;
+                run(begin, end);
+            }
+}
+
+// Calls visit(j, dx, dy, dz) with d = p[j] - p[i] for the particles in the buckets of the 27 cells around
+// particle i (i included), at most `max_scan` of them.
+template <class Visit>
+void for_each_near(ConstPositions p, const CellHash& h, std::size_t i, std::uint32_t max_scan,
+                   Visit&& visit) {
+    const float x = p.x[i], y = p.y[i], z = p.z[i];
+    for_each_bucket_near(h, x, y, z, max_scan, [&](std::uint32_t begin, std::uint32_t end) {
+        if (!h.sx.empty())
+            for (std::uint32_t e = begin; e < end; ++e)
+                visit(h.order[e], h.sx[e] - x, h.sy[e] - y, h.sz[e] - z);
+        else
+            for (std::uint32_t e = begin; e < end; ++e) {
+                const std::uint32_t j = h.order[e];
+                visit(j, p.x[j] - x, p.y[j] - y, p.z[j] - z);
+            }
+    });
 }
 
 // Calls visit(j, dx, dy, dz, r2) for the particles of for_each_near with r2 = |d|^2 < r2_max, in the
@@ -114,35 +152,26 @@ void for_each_within(const CellHash& h, float x, float y, float z, float r2_max,
                      Visit&& visit) {
     using fv = VectorLanes<4>::f;
     using iv = VectorLanes<4>::i;
-    const std::int32_t ci = h.cell(x, h.ox), cj = h.cell(y, h.oy), ck = h.cell(z, h.oz);
-    std::uint32_t seen[27], seen_n = 0, budget = max_scan;
-    std::uint64_t seen_bits = 0;
     const fv vx = fv{} + x, vy = fv{} + y, vz = fv{} + z, vr = fv{} + r2_max;
-    for (std::int32_t dk = -1; dk <= 1; ++dk)
-        for (std::int32_t dj = -1; dj <= 1; ++dj)
-            for (std::int32_t di = -1; di <= 1; ++di) {
-                const std::uint32_t b = h.key(ci + di, cj + dj, ck + dk);
-                if (!first_visit(b, seen, seen_n, seen_bits)) continue;  // a shared bucket
-                const std::uint32_t begin = h.heads[b], end = std::min(h.heads[b + 1], begin + budget);
-                budget -= end - begin;
-                std::uint32_t e = begin;
-                for (; e + 4 <= end; e += 4) {
-                    fv px, py, pz;
-                    std::memcpy(&px, h.sx.data() + e, sizeof px);
-                    std::memcpy(&py, h.sy.data() + e, sizeof py);
-                    std::memcpy(&pz, h.sz.data() + e, sizeof pz);
-                    const fv dx = px - vx, dy = py - vy, dz = pz - vz;
-                    const fv r2 = dx * dx + dy * dy + dz * dz;
-                    const iv hit = r2 < vr;
-                    for (int l = 0; l < 4; ++l)
-                        if (hit[l]) visit(h.order[e + std::uint32_t(l)], dx[l], dy[l], dz[l], r2[l]);
-                }
-                for (; e < end; ++e) {
-                    const float dx = h.sx[e] - x, dy = h.sy[e] - y, dz = h.sz[e] - z;
-                    const float r2 = dx * dx + dy * dy + dz * dz;
-                    if (r2 < r2_max) visit(h.order[e], dx, dy, dz, r2);
-                }
-            }
+    for_each_bucket_near(h, x, y, z, max_scan, [&](std::uint32_t begin, std::uint32_t end) {
+        std::uint32_t e = begin;
+        for (; e + 4 <= end; e += 4) {
+            fv px, py, pz;
+            std::memcpy(&px, h.sx.data() + e, sizeof px);
+            std::memcpy(&py, h.sy.data() + e, sizeof py);
+            std::memcpy(&pz, h.sz.data() + e, sizeof pz);
+            const fv dx = px - vx, dy = py - vy, dz = pz - vz;
+            const fv r2 = dx * dx + dy * dy + dz * dz;
+            const iv hit = r2 < vr;
+            for (int l = 0; l < 4; ++l)
+                if (hit[l]) visit(h.order[e + std::uint32_t(l)], dx[l], dy[l], dz[l], r2[l]);
+        }
+        for (; e < end; ++e) {
+            const float dx = h.sx[e] - x, dy = h.sy[e] - y, dz = h.sz[e] - z;
+            const float r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 < r2_max) visit(h.order[e], dx, dy, dz, r2);
+        }
+    });
 }
 
 }  // namespace rivulet

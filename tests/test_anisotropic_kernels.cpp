@@ -123,6 +123,48 @@ TEST(CellHash, WithinQueriesFindEveryNeighbourOnceInTheScalarOrder) {
     }
 }
 
+TEST(CellHash, CulledBucketsStillHoldEveryNeighbour) {
+    // The cells wholly beyond the radius skipped: every particle within it still comes up exactly once,
+    // with points on cell borders and corners, a small table (buckets shared by near and far cells) and
+    // radii of one cell edge and less.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> at(0.0f, 1.0f);
+    Cloud c;
+    for (int i = 0; i < 2000; ++i) c.add(at(rng), at(rng), at(rng));
+    for (int i = 0; i < 64; ++i) c.add(0.1f * float(i % 4), 0.1f * float(i / 4 % 4), 0.1f * float(i / 16));
+    const float cell = 0.1f, origin[3] = {0, 0, 0};
+    std::vector<std::uint32_t> heads(cell_hash_table_size(c.size()) + 1), order(c.size());
+    CellHash h = build_cell_hash(c.pos(), origin, cell, heads, order);
+    h.mask = 63;  // 64 buckets: most are shared by several of a query's 27 cells
+    std::fill(heads.begin(), heads.end(), 0u);
+    for (std::size_t i = 0; i < c.size(); ++i) ++heads[h.of(c.x[i], c.y[i], c.z[i]) + 1];
+    for (std::size_t b = 0; b < 64; ++b) heads[b + 1] += heads[b];
+    for (std::size_t i = 0; i < c.size(); ++i)
+        order[heads[h.of(c.x[i], c.y[i], c.z[i])]++] = std::uint32_t(i);
+    for (std::size_t b = 64; b > 0; --b) heads[b] = heads[b - 1];
+    heads[0] = 0;
+    h.heads = std::span<const std::uint32_t>(heads).first(65);
+    for (const float radius : {cell, 0.7f * cell, 0.3f * cell}) {
+        for (std::size_t i = 0; i < c.size(); i += 5) {
+            std::vector<std::uint32_t> got, want;
+            for_each_bucket_within(
+                h, c.x[i], c.y[i], c.z[i], radius, 1u << 20, [&](std::uint32_t begin, std::uint32_t end) {
+                    for (std::uint32_t e = begin; e < end; ++e) {
+                        const std::uint32_t j = order[e];
+                        const float dx = c.x[j] - c.x[i], dy = c.y[j] - c.y[i], dz = c.z[j] - c.z[i];
+                        if (dx * dx + dy * dy + dz * dz < radius * radius) got.push_back(j);
+                    }
+                });
+            for (std::size_t j = 0; j < c.size(); ++j) {
+                const float dx = c.x[j] - c.x[i], dy = c.y[j] - c.y[i], dz = c.z[j] - c.z[i];
+                if (dx * dx + dy * dy + dz * dz < radius * radius) want.push_back(std::uint32_t(j));
+            }
+            std::sort(got.begin(), got.end());
+            ASSERT_EQ(got, want) << "particle " << i << ", radius " << radius;
+        }
+    }
+}
+
 TEST(AnisotropicKernels, SurfaceParticlesFlattenInteriorOnesStayRoundLonersAreSpheres) {
     const float d = 0.1f;
     const Cloud c = slab(d, 14, 7, 0.0f, 1);
