@@ -101,22 +101,19 @@ void anisotropic_kernels(ConstPositions p, const CellHash& hash, std::size_t beg
     const double radius = params.radius;
     for (std::size_t i = begin; i < end; ++i) {
         const NeighbourSums n = neighbour_sums(hash, p.x[i], p.y[i], p.z[i], params.radius);
-        const double wsum = n.w, sx = n.x, sy = n.y, sz = n.z, sxx = n.xx, sxy = n.xy, sxz = n.xz, syy = n.yy,
-                     syz = n.yz, szz = n.zz;
-        const std::uint32_t count = n.count;
-        const Eigen::Vector3d first(sx, sy, sz);
+        const Eigen::Vector3d first(n.x, n.y, n.z);
         Eigen::Matrix3d second;
-        second << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
-        const Eigen::Vector3d mean = first / wsum;  // i itself has weight 1: wsum >= 1
+        second << n.xx, n.xy, n.xz, n.xy, n.yy, n.yz, n.xz, n.yz, n.zz;
+        const Eigen::Vector3d mean = first / n.w;  // i itself has weight 1: n.w >= 1
         const double lambda = params.smoothing;
         out.x[i] = static_cast<float>(double(p.x[i]) + lambda * mean.x());
         out.y[i] = static_cast<float>(double(p.y[i]) + lambda * mean.y());
         out.z[i] = static_cast<float>(double(p.z[i]) + lambda * mean.z());
-        if (count < params.min_neighbours) {
+        if (n.count < params.min_neighbours) {
             write_sphere(out, i);
             continue;
         }
-        const Eigen::Matrix3d cov = second / wsum - mean * mean.transpose();
+        const Eigen::Matrix3d cov = second / n.w - mean * mean.transpose();
         // The closed form for 3 x 3 (the iterative solver took two thirds of the job); where it is less
         // accurate, nearly equal eigenvalues, their axes come out nearly equal too and their directions
         // hardly matter.

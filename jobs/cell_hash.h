@@ -78,18 +78,20 @@ inline bool first_visit(std::uint32_t b, std::uint32_t* seen, std::uint32_t& see
     return true;
 }
 
-// Calls run(begin, end) for each bucket of the 27 cells around (x, y, z), each bucket once: its entries
-// [begin, end) of `order` (and of the sorted coordinates), at most `max_scan` entries in all (more means a
-// pile far denser than the cell, e.g. coincident particles, which would otherwise make the caller
-// quadratic).
-template <class Run>
-void for_each_bucket_near(const CellHash& h, float x, float y, float z, std::uint32_t max_scan, Run&& run) {
-    const std::int32_t ci = h.cell(x, h.ox), cj = h.cell(y, h.oy), ck = h.cell(z, h.oz);
+// Calls run(begin, end) for each bucket of the 27 cells around cell (ci, cj, ck) that keep(di, dj, dk)
+// accepts, each bucket once: its entries [begin, end) of `order` (and of the sorted coordinates), at most
+// `max_scan` entries in all (more means a pile far denser than the cell, e.g. coincident particles,
+// which would otherwise make the caller quadratic). A bucket is marked visited only when it is run, so
+// one that a rejected cell shares with an accepted one is still run for the accepted one.
+template <class Keep, class Run>
+void for_each_kept_bucket(const CellHash& h, std::int32_t ci, std::int32_t cj, std::int32_t ck,
+                          std::uint32_t max_scan, Keep&& keep, Run&& run) {
     std::uint32_t seen[27], seen_n = 0, budget = max_scan;
     std::uint64_t seen_bits = 0;
     for (std::int32_t dk = -1; dk <= 1; ++dk)
         for (std::int32_t dj = -1; dj <= 1; ++dj)
             for (std::int32_t di = -1; di <= 1; ++di) {
+                if (!keep(di, dj, dk)) continue;
                 const std::uint32_t b = h.key(ci + di, cj + dj, ck + dk);
                 if (!first_visit(b, seen, seen_n, seen_bits)) continue;  // a shared bucket
                 const std::uint32_t begin = h.heads[b], end = std::min(h.heads[b + 1], begin + budget);
@@ -98,32 +100,33 @@ void for_each_bucket_near(const CellHash& h, float x, float y, float z, std::uin
             }
 }
 
+// Every bucket of the 27 cells around (x, y, z).
+template <class Run>
+void for_each_bucket_near(const CellHash& h, float x, float y, float z, std::uint32_t max_scan, Run&& run) {
+    for_each_kept_bucket(
+        h, h.cell(x, h.ox), h.cell(y, h.oy), h.cell(z, h.oz), max_scan,
+        [](std::int32_t, std::int32_t, std::int32_t) { return true; }, run);
+}
+
 // for_each_bucket_near without the cells that lie wholly farther than `radius` from (x, y, z) (with cells
-// of edge `radius`, about a quarter of the 27: corners and edges). A bucket is marked visited only when
-// it is visited, so a bucket a culled cell shares with a nearer one is still run for the nearer one.
+// of edge `radius`, about a quarter of the 27: corners and edges).
 template <class Run>
 void for_each_bucket_within(const CellHash& h, float x, float y, float z, float radius,
                             std::uint32_t max_scan, Run&& run) {
-    const float fx = (x - h.ox) * h.inv, fy = (y - h.oy) * h.inv, fz = (z - h.oz) * h.inv;
     const std::int32_t ci = h.cell(x, h.ox), cj = h.cell(y, h.oy), ck = h.cell(z, h.oz);
     // Per axis, the squared distance in cell edges to the cell below, this one and the one above.
-    const float ux = fx - float(ci), uy = fy - float(cj), uz = fz - float(ck);
+    const float ux = (x - h.ox) * h.inv - float(ci), uy = (y - h.oy) * h.inv - float(cj),
+                uz = (z - h.oz) * h.inv - float(ck);
     const float gap[3][3] = {{ux * ux, 0.0f, (1 - ux) * (1 - ux)},
                              {uy * uy, 0.0f, (1 - uy) * (1 - uy)},
                              {uz * uz, 0.0f, (1 - uz) * (1 - uz)}};
     const float reach = radius * h.inv, reach2 = reach * reach * 1.0001f;  // rounding never culls a neighbour
-    std::uint32_t seen[27], seen_n = 0, budget = max_scan;
-    std::uint64_t seen_bits = 0;
-    for (std::int32_t dk = -1; dk <= 1; ++dk)
-        for (std::int32_t dj = -1; dj <= 1; ++dj)
-            for (std::int32_t di = -1; di <= 1; ++di) {
-                if (gap[0][di + 1] + gap[1][dj + 1] + gap[2][dk + 1] > reach2) continue;
-                const std::uint32_t b = h.key(ci + di, cj + dj, ck + dk);
-                if (!first_visit(b, seen, seen_n, seen_bits)) continue;  // a shared bucket
-                const std::uint32_t begin = h.heads[b], end = std::min(h.heads[b + 1], begin + budget);
-                budget -= end - begin;
-                run(begin, end);
-            }
+    for_each_kept_bucket(
+        h, ci, cj, ck, max_scan,
+        [&](std::int32_t di, std::int32_t dj, std::int32_t dk) {
+            return !(gap[0][di + 1] + gap[1][dj + 1] + gap[2][dk + 1] > reach2);
+        },
+        run);
 }
 
 // Calls visit(j, dx, dy, dz) with d = p[j] - p[i] for the particles in the buckets of the 27 cells around
