@@ -2,7 +2,12 @@
 // over all its items. Inputs: a 24^3 lattice block (13,824 particles, r = 0.01, voxel r / 2) for slices;
 // the dam break at 8,000 particles for SPH (after one frame, so the grid and densities are warm).
 //   build/bin/bench_jobs_slices_sph --benchmark_min_time=0.2
+// The SPH state can be a later one: RIVULET_BENCH_SPH_FRAMES=N simulates N frames first (the passes'
+// cost changes over a dam break: 45 is mid-release, 120 after the splash), RIVULET_BENCH_SPH_PARTICLES
+// sets the size.
 #include <benchmark/benchmark.h>
+
+#include <cstdlib>
 
 #include "systems/particles/particle_set.h"
 #include "systems/sim/sph_scenes.h"
@@ -94,8 +99,13 @@ void BM_SlicesNormalsAndStage(benchmark::State& state) {
 }
 BENCHMARK(BM_SlicesNormalsAndStage)->Unit(benchmark::kMicrosecond);
 
+std::size_t env_count(const char* name, std::size_t fallback) {
+    const char* text = std::getenv(name);
+    return text != nullptr && std::atol(text) > 0 ? static_cast<std::size_t>(std::atol(text)) : fallback;
+}
+
 struct SphFixture {
-    SphDesc desc = make_dambreak(8000);
+    SphDesc desc = make_dambreak(env_count("RIVULET_BENCH_SPH_PARTICLES", 8000));
     ParticleSet set;
     std::unique_ptr<SphSimulation> sim;
 
@@ -104,8 +114,9 @@ struct SphFixture {
         set.reserve(sph_seed_count(desc));
         sim = std::make_unique<SphSimulation>(desc, sph_seed_count(desc));
         sim->seed(set);
-        sim->step_serial(set, 0);
-        sim->begin_frame(set, 1);
+        const std::size_t frames = env_count("RIVULET_BENCH_SPH_FRAMES", 1);
+        for (std::size_t f = 0; f < frames; ++f) sim->step_parallel(set, f);
+        sim->begin_frame(set, frames);
         if (solver == SphSolver::kDfsph) run(SphSimulation::kSubstep, SphSimulation::kNeighbours);
     }
     static SphFixture& get(SphSolver solver = SphSolver::kWcsph) {

@@ -284,5 +284,24 @@ TEST(DfsphJobs, TheBuildAppliesTheWarmStartAsACorrectionPass) {
     EXPECT_GT(largest, 1e-3) << "the correction moves the velocities";
 }
 
+TEST(DfsphJobs, AWarmStartLeftAloneReachesZeroWithoutTurningSubnormal) {
+    // Carried at the share every substep and never added to (a droplet in flight): each value on the
+    // way is a normal float or exactly zero, and zero is reached.
+    for (const float start : {3e-2f, -4e-5f, 1e-8f}) {
+        float k = start;
+        int steps = 0;
+        for (; k != 0.0f && steps < 100000; ++steps) {
+            k = dfsph_warm_stiffness(0.8f, k);
+            ASSERT_NE(std::fpclassify(k), FP_SUBNORMAL) << start << " after " << steps + 1;
+        }
+        EXPECT_EQ(k, 0.0f) << start;
+        EXPECT_GT(steps, 200) << start;  // it fades, it is not cut off early
+    }
+    // Where a stiffness acts, the warm start is the plain product.
+    for (const float last : {1e-8f, -2.5e-4f, 0.3f})
+        for (const float share : {0.8f, 1.7f, 0.05f})
+            EXPECT_EQ(dfsph_warm_stiffness(share, last), share * last);
+}
+
 }  // namespace
 }  // namespace rivulet

@@ -536,8 +536,8 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
             // build applies the divergence solve's, the prediction the density solve's.
             const float warm = dt_last_ > 0.0f ? kWarmStartShare * dt_sub_ / dt_last_ : 0.0f;
             for (std::size_t i = b; i < e; ++i) {
-                k_div_sum_[i] = warm * k_div_last_[source_[i]];
-                k_den_sum_[i] = warm * k_den_last_[source_[i]];
+                k_div_sum_[i] = dfsph_warm_stiffness(warm, k_div_last_[source_[i]]);
+                k_den_sum_[i] = dfsph_warm_stiffness(warm, k_den_last_[source_[i]]);
             }
             break;
         }
