@@ -62,8 +62,18 @@ struct Candidates {
     alignas(32) std::uint32_t j[kBatch + 8];
     alignas(32) float r2[kBatch + 8], dx[kBatch + 8], dy[kBatch + 8], dz[kBatch + 8];
     int count = 0;
-    bool full() const { return count > kBatch - 8; }
 };
+
+// The gathers keep the batch's count in a register (c.j's stores may alias an int, so a count in memory
+// is reloaded after each); before a gather of eight could overflow the batch it is flushed. Returns the
+// count after.
+template <class Flush>
+RIVULET_INLINE int flush_if_full(Candidates& c, int count, Flush& flush) {
+    if (count <= Candidates::kBatch - 8) return count;
+    c.count = count;
+    flush();
+    return c.count;
+}
 
 #if defined(__x86_64__) && defined(__GNUC__)
 // Per 8-bit hit mask, the indices of its set lanes in order, four bits each: the compaction of eight
@@ -79,9 +89,10 @@ constexpr std::array<std::uint32_t, 256> kCompactLanes = [] {
 }();
 
 // Appends those of eight candidates (offsets d from particle `self`, indices `index`, lanes past
-// `valid` ignored) within h, itself excluded, to the batch in order: one permute per column compacts them.
-RIVULET_AVX2 inline void append_near_avx2(__m256 dx, __m256 dy, __m256 dz, __m256i index, __m256 h2,
-                                          unsigned valid, std::uint32_t self, Candidates& c) {
+// `valid` ignored) within h, itself excluded, to the batch after its first `count`, in order: one permute
+// per column compacts them. Returns the new count.
+RIVULET_AVX2 inline int append_near_avx2(__m256 dx, __m256 dy, __m256 dz, __m256i index, __m256 h2,
+                                         unsigned valid, std::uint32_t self, Candidates& c, int count) {
     const __m256 r2 =
         _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
     const unsigned itself = static_cast<unsigned>(_mm256_movemask_ps(
@@ -92,12 +103,12 @@ RIVULET_AVX2 inline void append_near_avx2(__m256 dx, __m256 dy, __m256 dz, __m25
         _mm256_and_si256(_mm256_srlv_epi32(_mm256_set1_epi32(static_cast<int>(kCompactLanes[hits])),
                                            _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28)),
                          _mm256_set1_epi32(7));
-    _mm256_storeu_ps(c.r2 + c.count, _mm256_permutevar8x32_ps(r2, order));
-    _mm256_storeu_ps(c.dx + c.count, _mm256_permutevar8x32_ps(dx, order));
-    _mm256_storeu_ps(c.dy + c.count, _mm256_permutevar8x32_ps(dy, order));
-    _mm256_storeu_ps(c.dz + c.count, _mm256_permutevar8x32_ps(dz, order));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.j + c.count), _mm256_permutevar8x32_epi32(index, order));
-    c.count += std::popcount(hits);
+    _mm256_storeu_ps(c.r2 + count, _mm256_permutevar8x32_ps(r2, order));
+    _mm256_storeu_ps(c.dx + count, _mm256_permutevar8x32_ps(dx, order));
+    _mm256_storeu_ps(c.dy + count, _mm256_permutevar8x32_ps(dy, order));
+    _mm256_storeu_ps(c.dz + count, _mm256_permutevar8x32_ps(dz, order));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.j + count), _mm256_permutevar8x32_epi32(index, order));
+    return count + std::popcount(hits);
 }
 
 // Appends the candidates among the near cells' particles within h of particle `self` at q (r2 < h2,
@@ -110,25 +121,27 @@ RIVULET_AVX2 inline void gather_near_avx2(const DfsphNearCells& near, std::size_
     const __m256 reach = _mm256_set1_ps(h2);
     const float *x = near.x.data(), *y = near.y.data(), *z = near.z.data();
     const std::uint32_t* index = near.j.data();
+    int count = c.count;
     std::size_t k = 0;
     for (; k + 8 <= n; k += 8) {
-        append_near_avx2(_mm256_sub_ps(qx, _mm256_loadu_ps(x + k)), _mm256_sub_ps(qy, _mm256_loadu_ps(y + k)),
-                         _mm256_sub_ps(qz, _mm256_loadu_ps(z + k)),
-                         _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + k)), reach, 0xffu, self,
-                         c);
-        if (c.full()) flush();
+        count = append_near_avx2(
+            _mm256_sub_ps(qx, _mm256_loadu_ps(x + k)), _mm256_sub_ps(qy, _mm256_loadu_ps(y + k)),
+            _mm256_sub_ps(qz, _mm256_loadu_ps(z + k)),
+            _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + k)), reach, 0xffu, self, c, count);
+        count = flush_if_full(c, count, flush);
     }
     if (k < n) {
         const auto left = static_cast<unsigned>(n - k);
         const __m256i in = _mm256_cmpgt_epi32(_mm256_set1_epi32(static_cast<int>(left)),
                                               _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-        append_near_avx2(_mm256_sub_ps(qx, _mm256_maskload_ps(x + k, in)),
-                         _mm256_sub_ps(qy, _mm256_maskload_ps(y + k, in)),
-                         _mm256_sub_ps(qz, _mm256_maskload_ps(z + k, in)),
-                         _mm256_maskload_epi32(reinterpret_cast<const int*>(index + k), in), reach,
-                         (1u << left) - 1u, self, c);
-        if (c.full()) flush();
+        count = append_near_avx2(_mm256_sub_ps(qx, _mm256_maskload_ps(x + k, in)),
+                                 _mm256_sub_ps(qy, _mm256_maskload_ps(y + k, in)),
+                                 _mm256_sub_ps(qz, _mm256_maskload_ps(z + k, in)),
+                                 _mm256_maskload_epi32(reinterpret_cast<const int*>(index + k), in), reach,
+                                 (1u << left) - 1u, self, c, count);
+        count = flush_if_full(c, count, flush);
     }
+    c.count = count;
 }
 #endif
 
@@ -139,6 +152,7 @@ RIVULET_INLINE void gather_near(const DfsphNearCells& near, std::size_t n, const
                                 std::uint32_t self, float h2, Candidates& c, Flush& flush) {
     const simd::F4 qx = simd::splat(q[0]), qy = simd::splat(q[1]), qz = simd::splat(q[2]);
     const simd::F4 reach = simd::splat(h2);
+    int count = c.count;
     std::size_t k = 0;
     for (; k + 4 <= n; k += 4) {
         const simd::F4 dx = qx - simd::load(&near.x[k]), dy = qy - simd::load(&near.y[k]),
@@ -148,22 +162,23 @@ RIVULET_INLINE void gather_near(const DfsphNearCells& near, std::size_t n, const
         alignas(16) float lr2[4], ldx[4], ldy[4], ldz[4];
         simd::store(lr2, r2), simd::store(ldx, dx), simd::store(ldy, dy), simd::store(ldz, dz);
         for (unsigned lane = 0; lane < 4; ++lane) {
-            const int m = c.count;
+            const int m = count;
             const std::uint32_t j = near.j[k + lane];
             c.j[m] = j, c.r2[m] = lr2[lane], c.dx[m] = ldx[lane], c.dy[m] = ldy[lane], c.dz[m] = ldz[lane];
-            c.count += int((hits >> lane & 1u) & unsigned(j != self));
+            count += int((hits >> lane & 1u) & unsigned(j != self));
         }
-        if (c.full()) flush();
+        count = flush_if_full(c, count, flush);
     }
     for (; k < n; ++k) {
         const float dx = q[0] - near.x[k], dy = q[1] - near.y[k], dz = q[2] - near.z[k];
         const float r2 = dx * dx + dy * dy + dz * dz;
-        const int m = c.count;
+        const int m = count;
         const std::uint32_t j = near.j[k];
         c.j[m] = j, c.r2[m] = r2, c.dx[m] = dx, c.dy[m] = dy, c.dz[m] = dz;
-        c.count += int(r2 < h2 && j != self);
-        if (c.full()) flush();
+        count += int(r2 < h2 && j != self);
+        count = flush_if_full(c, count, flush);
     }
+    c.count = count;
 }
 
 // The particles of the 27 cells around cell `key`, rows in sph_for_each_near_row's order, copied into

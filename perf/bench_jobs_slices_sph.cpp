@@ -120,8 +120,12 @@ struct SphFixture {
         if (solver == SphSolver::kDfsph) run(SphSimulation::kSubstep, SphSimulation::kNeighbours);
     }
     static SphFixture& get(SphSolver solver = SphSolver::kWcsph) {
-        static SphFixture wcsph(SphSolver::kWcsph), dfsph(SphSolver::kDfsph);
-        return solver == SphSolver::kWcsph ? wcsph : dfsph;
+        if (solver == SphSolver::kWcsph) {
+            static SphFixture wcsph(SphSolver::kWcsph);
+            return wcsph;
+        }
+        static SphFixture dfsph(SphSolver::kDfsph);  // made only when a DFSPH benchmark runs
+        return dfsph;
     }
     // Runs phases [first, last] over all their chunks, serially.
     void run(std::size_t first, std::size_t last) {
