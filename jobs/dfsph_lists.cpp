@@ -226,27 +226,14 @@ RIVULET_INLINE float sum8(const f8& a) {
     return (s[0] + s[1]) + (s[2] + s[3]);
 }
 
-// Eight pairs from their columns (gradient lanes, indices), as a 4 x 4 transpose per half: twelve
-// shuffles and four stores, where pair-by-pair stores took about sixty instructions.
-RIVULET_INLINE void store_pairs8(const f8& gx, const f8& gy, const f8& gz, const std::uint32_t* j,
-                                 DfsphPair* out) {
+// Eight pairs from their columns (radial factors, indices), interleaved: two shuffles, two stores.
+RIVULET_INLINE void store_pairs8(const f8& f, const std::uint32_t* j, DfsphPair* out) {
     i8 ji;
     std::memcpy(&ji, j, sizeof ji);
     const f8 jf = reinterpret_cast<f8>(ji);
-    const f8 xy_lo = __builtin_shufflevector(gx, gy, 0, 8, 1, 9, 4, 12, 5, 13);  // pairs 0, 1 | 4, 5
-    const f8 zj_lo = __builtin_shufflevector(gz, jf, 0, 8, 1, 9, 4, 12, 5, 13);
-    const f8 xy_hi = __builtin_shufflevector(gx, gy, 2, 10, 3, 11, 6, 14, 7, 15);  // pairs 2, 3 | 6, 7
-    const f8 zj_hi = __builtin_shufflevector(gz, jf, 2, 10, 3, 11, 6, 14, 7, 15);
-    const f8 p04 = __builtin_shufflevector(xy_lo, zj_lo, 0, 1, 8, 9, 4, 5, 12, 13);
-    const f8 p15 = __builtin_shufflevector(xy_lo, zj_lo, 2, 3, 10, 11, 6, 7, 14, 15);
-    const f8 p26 = __builtin_shufflevector(xy_hi, zj_hi, 0, 1, 8, 9, 4, 5, 12, 13);
-    const f8 p37 = __builtin_shufflevector(xy_hi, zj_hi, 2, 3, 10, 11, 6, 7, 14, 15);
-    const f8 p01 = __builtin_shufflevector(p04, p15, 0, 1, 2, 3, 8, 9, 10, 11);
-    const f8 p23 = __builtin_shufflevector(p26, p37, 0, 1, 2, 3, 8, 9, 10, 11);
-    const f8 p45 = __builtin_shufflevector(p04, p15, 4, 5, 6, 7, 12, 13, 14, 15);
-    const f8 p67 = __builtin_shufflevector(p26, p37, 4, 5, 6, 7, 12, 13, 14, 15);
-    std::memcpy(out, &p01, sizeof p01), std::memcpy(out + 2, &p23, sizeof p23);
-    std::memcpy(out + 4, &p45, sizeof p45), std::memcpy(out + 6, &p67, sizeof p67);
+    const f8 lo = __builtin_shufflevector(f, jf, 0, 8, 1, 9, 2, 10, 3, 11);
+    const f8 hi = __builtin_shufflevector(f, jf, 4, 12, 5, 13, 6, 14, 7, 15);
+    std::memcpy(out, &lo, sizeof lo), std::memcpy(out + 4, &hi, sizeof hi);
 }
 
 // The lane sums of one particle's pairs: sum W, sum V grad W (per axis), sum |V grad W|^2.
@@ -285,7 +272,7 @@ RIVULET_INLINE void flush_batch(const SphCubicKernel& kernel, float volume, Cand
             const f8 kij = ki + kj;
             sums.cx += kij * gx, sums.cy += kij * gy, sums.cz += kij * gz;
         }
-        store_pairs8(gx, gy, gz, c.j + k, pairs + k);
+        store_pairs8(f, c.j + k, pairs + k);
     }
 }
 
@@ -325,6 +312,7 @@ RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel
             gather_near(lists.near, near, q, self, h2, batch, flush);
         flush();
         out.pair_end[i] = static_cast<std::uint32_t>(used);
+        out.x4[4 * i] = q[0], out.x4[4 * i + 1] = q[1], out.x4[4 * i + 2] = q[2], out.x4[4 * i + 3] = 0.0f;
         float gx = sum8(sums.gx), gy = sum8(sums.gy), gz = sum8(sums.gz);
         const float g2 = sum8(sums.g2);
         const float w_sum = kernel.k + sum8(sums.w);  // W(0) = k: the particle itself

@@ -27,12 +27,15 @@
 
 namespace rivulet {
 
-// The gradient first, so a pair is one four-lane load with j in the last lane.
+// A pair holds the kernel's radial factor f, V grad W_ij = f (x_i - x_j): the passes make the vector
+// from the packed positions (DfsphParticleOut::x4), which sit in the second-level cache, while the pairs
+// stream from memory (24k particles: 11 MB of them a pass at 16 bytes, half that at 8). f (x_i - x_j)
+// from the same floats is the build's own product, so the passes see the same vector to the bit.
 struct DfsphPair {
-    float gx, gy, gz;  // V grad W_ij = f (x_i - x_j), f the kernel's radial factor
+    float f;
     std::uint32_t j;
 };
-static_assert(sizeof(DfsphPair) == 16, "a pair is one four-lane load");
+static_assert(sizeof(DfsphPair) == 8, "a pair is two words");
 
 // The wall's share of a particle's density at distance s from a wall plane: what a mirror image of the
 // fluid would add if the fluid were the cubic lattice (spacing d) that the particle is a point of,
@@ -70,6 +73,7 @@ struct DfsphParticleOut {
     std::span<float> density_ratio, factor;
     std::span<float> wall_gx, wall_gy, wall_gz;  // grad B_i
     std::span<float> support;  // neighbours plus the wall's share (B_i times a full neighbourhood)
+    std::span<float> x4;       // the positions packed (x, y, z, 0), which the passes read with the pairs
     // Optional, the divergence solve's warm start (jobs/dfsph_solve.h): with stiffness k_warm (every
     // particle's, set before the build) each particle's velocity gets dfsph_correct's correction, summed
     // in the build's lanes, and is written to vx, vy, vz and packed to v4 (x, y, z, 0): no pass of its own.

@@ -11,10 +11,12 @@ namespace {
 inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
                      std::span<const float> v4) {
     const simd::F4 vi = simd::load(&v4[4 * i]);
+    const simd::F4 xi = simd::load(&c.x4[4 * i]);
     simd::F4 sum = simd::splat(0.0f);
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
         const DfsphPair& q = l.pairs[p];
-        sum = sum + simd::load3(&q) * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
+        const simd::F4 g = simd::splat(q.f) * (xi - simd::load(&c.x4[4 * std::size_t(q.j)]));
+        sum = sum + g * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
     }
     alignas(16) float s[4];
     simd::store(s, sum);
@@ -30,10 +32,12 @@ inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_
 inline void correction_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
                           std::span<const float> k, float d[3]) {
     const float ki = k[i];
+    const simd::F4 xi = simd::load(&c.x4[4 * i]);
     simd::F4 sum = simd::splat(0.0f);
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
         const DfsphPair& q = l.pairs[p];
-        sum = sum + simd::splat(ki + k[q.j]) * simd::load3(&q);
+        const simd::F4 g = simd::splat(q.f) * (xi - simd::load(&c.x4[4 * std::size_t(q.j)]));
+        sum = sum + simd::splat(ki + k[q.j]) * g;
     }
     alignas(16) float lanes[4];
     simd::store(lanes, sum);
@@ -55,7 +59,7 @@ inline void viscosity_of(const DfsphContext& c, const DfsphChunkLists& l, std::s
     const auto self = static_cast<std::uint32_t>(i);
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; p += 4) {
         const std::uint32_t n = c.pair_end[i] - p;
-        const DfsphPair none{0.0f, 0.0f, 0.0f, self};
+        const DfsphPair none{0.0f, self};
         const DfsphPair& q0 = l.pairs[p];
         const DfsphPair& q1 = n > 1 ? l.pairs[p + 1] : none;
         const DfsphPair& q2 = n > 2 ? l.pairs[p + 2] : none;
@@ -69,9 +73,10 @@ inline void viscosity_of(const DfsphContext& c, const DfsphChunkLists& l, std::s
                       (vyi - simd::make(vy[j0], vy[j1], vy[j2], vy[j3])) * dy +
                       (vzi - simd::make(vz[j0], vz[j1], vz[j2], vz[j3])) * dz;
         const F4 s = vr / (r2 + e2);
-        ax = ax + s * simd::make(q0.gx, q1.gx, q2.gx, q3.gx);
-        ay = ay + s * simd::make(q0.gy, q1.gy, q2.gy, q3.gy);
-        az = az + s * simd::make(q0.gz, q1.gz, q2.gz, q3.gz);
+        const F4 f = simd::make(q0.f, q1.f, q2.f, q3.f);
+        ax = ax + s * (f * dx);
+        ay = ay + s * (f * dy);
+        az = az + s * (f * dz);
     }
     a[0] = simd::sum(ax), a[1] = simd::sum(ay), a[2] = simd::sum(az);
 }

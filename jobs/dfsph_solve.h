@@ -36,6 +36,7 @@ struct DfsphVelocities {
 // What every pass reads: sorted positions, the lists, the walls' gradients and velocity.
 struct DfsphContext {
     std::span<const float> x, y, z;
+    std::span<const float> x4;               // the same positions packed (x, y, z, 0) by the list build
     std::span<const DfsphChunkLists> lists;  // per chunk
     std::span<const std::uint32_t> pair_begin, pair_end;
     std::span<const float> wall_gx, wall_gy, wall_gz, support;

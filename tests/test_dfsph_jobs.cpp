@@ -41,9 +41,10 @@ struct Block {
 struct Lists {
     DfsphChunkLists lists;
     std::vector<std::uint32_t> begin, end;
-    std::vector<float> ratio, factor, gx, gy, gz, support;
-    explicit Lists(std::size_t n) : begin(n), end(n), ratio(n), factor(n), gx(n), gy(n), gz(n), support(n) {}
-    DfsphParticleOut out() { return {begin, end, ratio, factor, gx, gy, gz, support}; }
+    std::vector<float> ratio, factor, gx, gy, gz, support, x4;
+    explicit Lists(std::size_t n)
+        : begin(n), end(n), ratio(n), factor(n), gx(n), gy(n), gz(n), support(n), x4(4 * n) {}
+    DfsphParticleOut out() { return {begin, end, ratio, factor, gx, gy, gz, support, x4}; }
 };
 
 TEST(DfsphJobs, WallShareCompletesALatticeLayerAndItsSlopeIsItsDerivative) {
@@ -115,8 +116,8 @@ TEST(DfsphJobs, DensitySolveDecompressesABlockAndConservesMomentum) {
     Lists l(n);
     const DfsphWallTable table(kernel, volume, d);
     dfsph_build_lists(block.view(), kernel, volume, SphWalls{}, table, 26.0f, 0, n, l.lists, l.out());
-    const DfsphContext c{block.x, block.y, block.z, {&l.lists, 1}, l.begin,   l.end,
-                         l.gx,    l.gy,    l.gz,    l.support,     {0, 0, 0}, 20.0f};
+    const DfsphContext c{block.x, block.y, block.z, l.x4,      {&l.lists, 1}, l.begin, l.end,
+                         l.gx,    l.gy,    l.gz,    l.support, {0, 0, 0},     20.0f};
     std::vector<float> vx(n, 0.0f), vy(n, 0.0f), vz(n, 0.0f), v4(4 * n, 0.0f), k(n, 0.0f), total(n, 0.0f);
     const float dt = 0.004f;
     double first = 0, error = 0;
@@ -268,8 +269,8 @@ TEST(DfsphJobs, TheBuildAppliesTheWarmStartAsACorrectionPass) {
                 same_bytes(fast.vz, baseline.vz) && same_bytes(fast.v4, baseline.v4));
     // Against the correction pass over the lists just built.
     const Lists& l = fast.l;
-    const DfsphContext c{cloud.x, cloud.y, cloud.z, {&l.lists, 1}, l.begin,   l.end,
-                         l.gx,    l.gy,    l.gz,    l.support,     {0, 0, 0}, 20.0f};
+    const DfsphContext c{cloud.x, cloud.y, cloud.z, l.x4,      {&l.lists, 1}, l.begin, l.end,
+                         l.gx,    l.gy,    l.gz,    l.support, {0, 0, 0},     20.0f};
     std::vector<float> vx = vx0, vy = vy0, vz = vz0, v4(4 * n);
     dfsph_correct(c, 0, 0, n, stiffness, {vx, vy, vz, v4});
     double largest = 0;

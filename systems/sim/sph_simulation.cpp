@@ -230,10 +230,10 @@ std::string sph_desc_problem(const SphDesc& d, std::size_t max_particles) {
 std::uint64_t sph_buffer_bytes(std::uint64_t cells, std::size_t max_particles) {
     const std::uint64_t n = std::max<std::size_t>(max_particles, 1);
     // 11 float columns, ids, sorted keys, store-order keys; counts and cursors per chunk and cell; starts
-    // and totals per cell. DFSPH: 2 list indices and 11 floats per particle (4 of them the packed
-    // velocities), and the lists as first reserved (kListPairs pairs per particle).
+    // and totals per cell. DFSPH: 2 list indices and 15 floats per particle (8 of them the packed
+    // velocities and positions), and the lists as first reserved (kListPairs pairs per particle).
     return n * 14 * 4 + (2 * default_chunks(max_particles) + 2) * cells * 4 +
-           n * (13 * 4 + kListPairs * sizeof(DfsphPair));
+           n * (17 * 4 + kListPairs * sizeof(DfsphPair));
 }
 
 SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std::size_t chunks)
@@ -299,6 +299,7 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
             a->reserve(n);
         source_.reserve(n);
         v4_.reserve(4 * n);
+        x4_.reserve(4 * n);
         lists_.resize(chunks_);
         const std::size_t per_chunk = n / chunks_ + 1;
         for (DfsphChunkLists& l : lists_) l.pairs.reserve(per_chunk * kListPairs);
@@ -435,6 +436,7 @@ DfsphContext SphSimulation::dfsph_context() const {
     DfsphContext c{sx_.span(n_),
                    sy_.span(n_),
                    sz_.span(n_),
+                   x4_.span(4 * n_),
                    lists_,
                    pair_begin_.span(n_),
                    pair_end_.span(n_),
@@ -544,7 +546,7 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
         case kNeighbours: {
             DfsphParticleOut out{pair_begin_.span(n_), pair_end_.span(n_), ratio_.span(n_),
                                  factor_.span(n_),     wall_gx_.span(n_),  wall_gy_.span(n_),
-                                 wall_gz_.span(n_),    support_.span(n_)};
+                                 wall_gz_.span(n_),    support_.span(n_),  x4_.span(4 * n_)};
             out.k_warm = k_div_sum_.span(n_);
             out.vx = svx_.span(n_), out.vy = svy_.span(n_), out.vz = svz_.span(n_), out.v4 = v4_.span(4 * n_);
             dfsph_build_lists(neighbourhood(), cubic_, volume_, walls_, wall_table_, full_neighbours_, b, e,

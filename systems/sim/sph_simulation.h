@@ -197,6 +197,7 @@ class SphSimulation {
     AlignedArray<float> k_div_sum_, k_den_sum_, k_div_last_, k_den_last_;
     AlignedArray<std::uint32_t> source_;
     AlignedArray<float> v4_;  // the solve's velocities packed (DfsphVelocities::v4)
+    AlignedArray<float> x4_;  // the sorted positions packed (DfsphParticleOut::x4)
     float dt_last_ = 0;       // the last substep's length (0: nothing to warm-start from)
     AlignedArray<double> chunk_error_;
 };
