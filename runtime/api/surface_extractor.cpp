@@ -78,6 +78,9 @@ MeshView SurfaceExtractor::Workspace::run_slices(const SurfaceSettings& s, tbb::
         settings.anisotropy = s.anisotropy;
         slices.graph.reset();
         slices.system = std::make_unique<SlicesExtractor>(settings, capacity_for(n));
+        // A sweep scratch per thread now: grown on demand, a second one would first be made whenever
+        // the calls happened to run two blocks at once, which a busy machine may put off for many calls.
+        slices.system->reserve_scratch(static_cast<std::size_t>(workers.max_concurrency()));
         slices.graph = std::make_unique<FrameGraph>();
         add_slices_jobs(
             *slices.graph, *slices.system, [this] { return positions(); },
