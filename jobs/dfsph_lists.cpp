@@ -58,15 +58,15 @@ using i8 = VectorLanes<8>::i;
 // A batch of candidates within h of particle i, compacted in cell-search order: index, squared
 // distance, offset x_i - x_j.
 struct Candidates {
-    static constexpr int kBatch = 64;  // flushed before a gather of eight could overflow it
+    static constexpr int kBatch = 64;  // flushed from kBatch - 8 on: room for a gather of eight
     alignas(32) std::uint32_t j[kBatch + 8];
     alignas(32) float r2[kBatch + 8], dx[kBatch + 8], dy[kBatch + 8], dz[kBatch + 8];
     int count = 0;
 };
 
 // The gathers keep the batch's count in a register (c.j's stores may alias an int, so a count in memory
-// is reloaded after each); before a gather of eight could overflow the batch it is flushed. Returns the
-// count after.
+// is reloaded after each); past kBatch - 8 the batch is flushed (whole groups of eight: fewer than eight
+// stay), so the next gather of eight fits. Returns the count after.
 template <class Flush>
 RIVULET_INLINE int flush_if_full(Candidates& c, int count, Flush& flush) {
     if (count <= Candidates::kBatch - 8) return count;
@@ -303,13 +303,29 @@ RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel
             used += std::size_t(batch.count);
             batch.count = 0;
         };
+        // A full batch within the particle's candidates: its whole groups of eight, the rest kept for
+        // the next. Each candidate then sums in lane (its place among the particle's hits) mod 8, however
+        // often and wherever a gather flushes (after four candidates in the baseline, eight in AVX2): the
+        // whole batch padded to eight gave the two builds different sums where a particle has more than
+        // kBatch - 8 neighbours.
+        const auto flush_groups = [&] {
+            const int whole = batch.count & ~7, rest = batch.count - whole;
+            batch.count = whole;
+            flush();
+            for (int k = 0; k < rest; ++k) {
+                batch.r2[k] = batch.r2[whole + k], batch.dx[k] = batch.dx[whole + k];
+                batch.dy[k] = batch.dy[whole + k], batch.dz[k] = batch.dz[whole + k];
+                batch.j[k] = batch.j[whole + k];
+            }
+            batch.count = rest;
+        };
         if (nb.key[i] != key || i == begin) key = nb.key[i], near = gather_cells(nb, key, lists.near);
 #if defined(__x86_64__) && defined(__GNUC__)
         if constexpr (kAvx2)
-            gather_near_avx2(lists.near, near, q, self, h2, batch, flush);
+            gather_near_avx2(lists.near, near, q, self, h2, batch, flush_groups);
         else
 #endif
-            gather_near(lists.near, near, q, self, h2, batch, flush);
+            gather_near(lists.near, near, q, self, h2, batch, flush_groups);
         flush();
         out.pair_end[i] = static_cast<std::uint32_t>(used);
         out.x4[4 * i] = q[0], out.x4[4 * i + 1] = q[1], out.x4[4 * i + 2] = q[2], out.x4[4 * i + 3] = 0.0f;

@@ -193,9 +193,10 @@ struct WalledCloud {
     float volume = dfsph_lattice_volume(kernel, d);
     DfsphWallTable table{kernel, volume, d};
     SphWalls walls;
-    explicit WalledCloud(int k) : cloud(k, 0.93f * d, h) {
+    // `spacing` below d packs more neighbours within h (0.4 d: about 300, several batches a particle).
+    explicit WalledCloud(int k, float spacing = 0.93f * d) : cloud(k, spacing, h) {
         walls.enabled = true;
-        for (int a = 0; a < 3; ++a) walls.min[a] = 0.0f, walls.max[a] = float(k) * 0.93f * d;
+        for (int a = 0; a < 3; ++a) walls.min[a] = 0.0f, walls.max[a] = float(k) * spacing;
     }
     void build(Lists& l, const DfsphParticleOut& out, std::size_t b, std::size_t e, bool baseline) const {
         if (baseline)
@@ -204,6 +205,27 @@ struct WalledCloud {
             dfsph_build_lists(cloud.view(), kernel, volume, walls, table, 26.0f, b, e, l.lists, out);
     }
 };
+
+// The build the CPU runs against the baseline: the same lists, values and bytes.
+void expect_builds_agree(const WalledCloud& w) {
+    const std::size_t n = w.cloud.size();
+    Lists fast(n), baseline(n);
+    for (auto [b, e] : {std::pair<std::size_t, std::size_t>{0, n / 3}, {n / 3, n}}) {
+        w.build(fast, fast.out(), b, e, false);
+        w.build(baseline, baseline.out(), b, e, true);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t pairs = baseline.end[i] - baseline.begin[i];
+        ASSERT_EQ(pairs, fast.end[i] - fast.begin[i]) << "particle " << i;
+        ASSERT_EQ(0, std::memcmp(&fast.lists.pairs[fast.begin[i]], &baseline.lists.pairs[baseline.begin[i]],
+                                 pairs * sizeof(DfsphPair)))
+            << "particle " << i;
+    }
+    EXPECT_TRUE(same_bytes(fast.ratio, baseline.ratio));
+    EXPECT_TRUE(same_bytes(fast.factor, baseline.factor));
+    EXPECT_TRUE(same_bytes(fast.support, baseline.support));
+    EXPECT_TRUE(same_bytes(fast.x4, baseline.x4));
+}
 
 TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
     const WalledCloud w(12);
@@ -237,6 +259,20 @@ TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
     EXPECT_TRUE(same_bytes(fast.gx, baseline.gx) && same_bytes(fast.gy, baseline.gy) &&
                 same_bytes(fast.gz, baseline.gz));
     EXPECT_TRUE(same_bytes(fast.support, baseline.support));
+    if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here: both runs were the baseline build";
+}
+
+TEST(DfsphJobs, BothBuildsGiveTheSameBytesWhereAParticleFillsSeveralBatches) {
+    const WalledCloud dense(9, 0.4f * WalledCloud::d);
+    std::size_t most = 0;  // neighbours of the densest particle: a batch holds 64 candidates
+    {
+        Lists l(dense.cloud.size());
+        dense.build(l, l.out(), 0, dense.cloud.size(), true);
+        for (std::size_t i = 0; i < dense.cloud.size(); ++i)
+            most = std::max<std::size_t>(most, l.end[i] - l.begin[i]);
+    }
+    EXPECT_GT(most, 200u);
+    expect_builds_agree(dense);
     if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here: both runs were the baseline build";
 }
 
