@@ -7,10 +7,6 @@
 
 #include "jobs/vector_lanes.h"
 
-#if defined(__SSE2__)
-#include <immintrin.h>
-#endif
-
 namespace rivulet {
 namespace {
 
@@ -20,16 +16,6 @@ constexpr std::uint32_t kMaxScan = 4096;
 void write_sphere(KernelShapes& out, std::size_t i) {
     out.sxx[i] = out.syy[i] = out.c[i] = out.amp[i] = 1.0f;
     out.sxy[i] = out.gx[i] = out.gy[i] = 0.0f;
-}
-
-inline VectorLanes<4>::f sqrt4(const VectorLanes<4>::f& x) {
-#if defined(__SSE2__)
-    return _mm_sqrt_ps(x);  // correctly rounded, as std::sqrt
-#else
-    VectorLanes<4>::f r;
-    for (int k = 0; k < 4; ++k) r[k] = std::sqrt(x[k]);
-    return r;
-#endif
 }
 
 // The weighted sums of a particle's neighbours within the radius: w, w d and w d d^T (its six distinct
@@ -53,7 +39,9 @@ NeighbourSums neighbour_sums(const CellHash& hash, float x, float y, float z, fl
         const fv dx = px - vx, dy = py - vy, dz = pz - vz;
         const fv r2 = dx * dx + dy * dy + dz * dz;
         const iv hit = valid & (r2 < vr2);
-        const fv q = sqrt4(r2) * inv_r;
+        fv q;
+        lane_sqrt(r2, q);
+        q = q * inv_r;
         const fv wl = hit ? one - q * q * q : zero;
         const fv wx = wl * dx, wy = wl * dy, wz = wl * dz;
         w += wl, sx += wx, sy += wy, sz += wz;

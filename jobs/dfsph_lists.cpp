@@ -207,15 +207,6 @@ std::size_t gather_cells(const SphNeighbourhood& nb, std::uint32_t key, DfsphNea
 RIVULET_INLINE void load8(const float* p, f8& v) {
     std::memcpy(&v, p, sizeof v);
 }
-RIVULET_INLINE void sqrt8(const f8& x, f8& r) {
-#if defined(__SSE2__)
-    const f4 lo = _mm_sqrt_ps(__builtin_shufflevector(x, x, 0, 1, 2, 3));  // correctly rounded, as std::sqrt
-    const f4 hi = _mm_sqrt_ps(__builtin_shufflevector(x, x, 4, 5, 6, 7));
-    r = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
-#else
-    for (int k = 0; k < 8; ++k) r[k] = std::sqrt(x[k]);
-#endif
-}
 // out = m ? a : b per lane (m all ones or all zeros).
 RIVULET_INLINE void select8(const i8& m, const f8& a, const f8& b, f8& out) {
     out = reinterpret_cast<f8>((m & reinterpret_cast<i8>(a)) | (~m & reinterpret_cast<i8>(b)));
@@ -255,7 +246,7 @@ RIVULET_INLINE void flush_batch(const SphCubicKernel& kernel, float volume, Cand
     for (int k = 0; k < c.count; k += 8) {
         const i8 valid = lane < (c.count - k);
         f8 r2, r, dx, dy, dz;
-        load8(c.r2 + k, r2), sqrt8(r2, r);
+        load8(c.r2 + k, r2), lane_sqrt(r2, r);
         load8(c.dx + k, dx), load8(c.dy + k, dy), load8(c.dz + k, dz);
         f8 w, dwdq, f;
         kernel.at(r, w, dwdq);
