@@ -6,6 +6,12 @@ namespace rivulet {
 
 namespace {
 
+// V grad W_ij of pair q of particle i (at xi): the pair's radial factor times x_i - x_j, the build's
+// own product from the same floats.
+inline simd::F4 pair_gradient(const DfsphContext& c, simd::F4 xi, const DfsphPair& q) {
+    return simd::splat(q.f) * (xi - simd::load(&c.x4[4 * std::size_t(q.j)]));
+}
+
 // sum_j V grad W_ij . (v_i - v_j) over particle i's pairs, plus the walls': the three products summed
 // per axis in lanes, the axes added at the end.
 inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
@@ -15,8 +21,7 @@ inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_
     simd::F4 sum = simd::splat(0.0f);
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
         const DfsphPair& q = l.pairs[p];
-        const simd::F4 g = simd::splat(q.f) * (xi - simd::load(&c.x4[4 * std::size_t(q.j)]));
-        sum = sum + g * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
+        sum = sum + pair_gradient(c, xi, q) * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
     }
     alignas(16) float s[4];
     simd::store(s, sum);
@@ -36,8 +41,7 @@ inline void correction_of(const DfsphContext& c, const DfsphChunkLists& l, std::
     simd::F4 sum = simd::splat(0.0f);
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
         const DfsphPair& q = l.pairs[p];
-        const simd::F4 g = simd::splat(q.f) * (xi - simd::load(&c.x4[4 * std::size_t(q.j)]));
-        sum = sum + simd::splat(ki + k[q.j]) * g;
+        sum = sum + simd::splat(ki + k[q.j]) * pair_gradient(c, xi, q);
     }
     alignas(16) float lanes[4];
     simd::store(lanes, sum);

@@ -57,6 +57,7 @@ inline float dfsph_warm_stiffness(float share, float last) {
     const float k = share * last;
     return std::abs(k) >= kDfsphWarmFloor ? k : 0.0f;
 }
+
 inline constexpr float kDfsphRelaxation = 0.5f;
 
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,

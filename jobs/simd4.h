@@ -64,12 +64,6 @@ inline float sum(F4 a) {
 inline F4 max(F4 a, F4 b) {
     return {_mm_max_ps(a.v, b.v)};
 }
-// p[0..2] in lanes 0-2 and +0 in lane 3, read as one 16-byte load: the four bytes after p[2] must be
-// readable, and whatever they hold (an index, say) never reaches the arithmetic.
-inline F4 load3(const void* p) {
-    const __m128 all = _mm_loadu_ps(static_cast<const float*>(p));
-    return {_mm_and_ps(all, _mm_castsi128_ps(_mm_set_epi32(0, -1, -1, -1)))};
-}
 
 #else
 
@@ -119,10 +113,6 @@ inline void store(float* p, F4 a) {
 inline F4 max(F4 a, F4 b) {
     return {{a.v[0] > b.v[0] ? a.v[0] : b.v[0], a.v[1] > b.v[1] ? a.v[1] : b.v[1],
              a.v[2] > b.v[2] ? a.v[2] : b.v[2], a.v[3] > b.v[3] ? a.v[3] : b.v[3]}};
-}
-inline F4 load3(const void* p) {
-    const float* f = static_cast<const float*>(p);
-    return {{f[0], f[1], f[2], 0.0f}};
 }
 
 #endif
