@@ -6,7 +6,7 @@
 // share of time in neighbour work (grid sort and lists), solver iterations and the rest, and the hash of
 // the last frame's particles (positions, velocities, ids), which must be the same at every thread count.
 //   bench_sph [--quick] [--frames N] [--sizes 8000,24000] [--threads 1,2] [--solver dfsph|wcsph]
-//             [--cfl X] [--chunks N]
+//             [--cfl X] [--max-error PERCENT] [--chunks N]
 // --chunks: pieces per parallel phase (0: the simulation's own choice, SphSimulation's constructor).
 // --quick: 8k and 24k, 60 frames. Defaults: 8k, 24k, 64k, 256k; 180 frames (3 s); threads 1 and 2.
 #include <tbb/blocked_range.h>
@@ -123,7 +123,7 @@ int main(int argc, char** argv) try {
     std::vector<long> sizes{8000, 24000, 64000, 256000}, threads{1, 2};
     int frames = 180;
     rivulet::SphSolver solver = rivulet::SphSolver::kDfsph;
-    float cfl = 0;
+    float cfl = 0, max_error = 0;
     long chunks = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -141,12 +141,14 @@ int main(int argc, char** argv) try {
                 std::string(argv[++i]) == "wcsph" ? rivulet::SphSolver::kWcsph : rivulet::SphSolver::kDfsph;
         } else if (a == "--cfl" && more) {
             cfl = static_cast<float>(std::atof(argv[++i]));
+        } else if (a == "--max-error" && more) {
+            max_error = static_cast<float>(std::atof(argv[++i]));
         } else if (a == "--chunks" && more) {
             chunks = std::max(0L, std::atol(argv[++i]));
         } else {
             std::fprintf(stderr,
                          "usage: bench_sph [--quick] [--frames N] [--sizes a,b] [--threads a,b] "
-                         "[--solver dfsph|wcsph] [--cfl X] [--chunks N]\n");
+                         "[--solver dfsph|wcsph] [--cfl X] [--max-error PERCENT] [--chunks N]\n");
             return 2;
         }
     }
@@ -159,6 +161,7 @@ int main(int argc, char** argv) try {
         rivulet::SphDesc desc = rivulet::make_dambreak(std::size_t(std::max(size, 100L)));
         desc.solver = solver;
         if (cfl > 0) desc.cfl = cfl;
+        if (max_error > 0) desc.max_density_error = max_error;
         for (long t : threads) {
             const Row r = run(desc, int(t), frames, std::size_t(chunks));
             std::printf("%9zu %7ld %8.2f %8.2f %8.2f %8.2f %8.1f %8.1f %8.1f %9.4f %6.1f %6.1f %6.1f %16s\n",

@@ -12,7 +12,9 @@ namespace rivulet {
 namespace {
 
 constexpr std::size_t kUpdateBlock = 16384;
-constexpr std::size_t kEmitBlock = 4096;
+// Voxels per emission block. Births are granted in voxel order until the room runs out, so when room is
+// short they crowd into the first few blocks; small blocks spread them over both threads.
+constexpr std::size_t kEmitBlock = 512;
 constexpr std::size_t kFillBlock = 4096;  // places filled per compact_fill block
 
 SolidCollider make_collider(const DiffuseCollider& c) {
