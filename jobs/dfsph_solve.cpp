@@ -6,6 +6,12 @@ namespace rivulet {
 
 namespace {
 
+// The walls' term of particle i's rate, grad B_i . (v_i - v_wall).
+inline float wall_rate(const DfsphContext& c, std::size_t i, const float* v) {
+    return c.wall_gx[i] * (v[0] - c.wall_velocity[0]) + c.wall_gy[i] * (v[1] - c.wall_velocity[1]) +
+           c.wall_gz[i] * (v[2] - c.wall_velocity[2]);
+}
+
 // V grad W_ij of pair q of particle i (at xi): the pair's radial factor times x_i - x_j, the build's
 // own product from the same floats.
 inline simd::F4 pair_gradient(const DfsphContext& c, simd::F4 xi, const DfsphPair& q) {
@@ -26,9 +32,7 @@ inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_
     alignas(16) float s[4];
     simd::store(s, sum);
     float rate = (s[0] + s[1]) + s[2];
-    const float* v = &v4[4 * i];
-    rate += c.wall_gx[i] * (v[0] - c.wall_velocity[0]) + c.wall_gy[i] * (v[1] - c.wall_velocity[1]) +
-            c.wall_gz[i] * (v[2] - c.wall_velocity[2]);
+    rate += wall_rate(c, i, &v4[4 * i]);
     return rate;
 }
 
@@ -49,17 +53,20 @@ inline void correction_of(const DfsphContext& c, const DfsphChunkLists& l, std::
     d[2] = lanes[2] + ki * c.wall_gz[i];
 }
 
-// sum_j (v_ij . x_ij) / (r_ij^2 + eps2) V grad W_ij over particle i's pairs (the viscosity's sum, Monaghan's
-// form): four pairs to a vector, a pair a lane, their neighbours' columns gathered; a missing pair is i
-// itself, which adds +0. Each lane's sums are added in a fixed order at the end.
-inline void viscosity_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
-                         std::span<const float> vx, std::span<const float> vy, std::span<const float> vz,
-                         float eps2, float a[3]) {
+// Over particle i's pairs, four to a vector (a pair a lane, their neighbours' packed positions and
+// velocities turned into columns; a missing pair is i itself, which adds +0): the viscosity's sum
+// sum_j (v_ij . x_ij) / (r_ij^2 + eps2) V grad W_ij (Monaghan's form) into a, and the rate
+// sum_j V grad W_ij . (v_i - v_j) = sum_j f_ij (v_ij . x_ij), returned. Each lane's sums are added in a
+// fixed order at the end.
+inline float viscosity_and_rate(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
+                                std::span<const float> v4, float eps2, float a[3]) {
     using simd::F4;
-    const F4 xi = simd::splat(c.x[i]), yi = simd::splat(c.y[i]), zi = simd::splat(c.z[i]);
-    const F4 vxi = simd::splat(vx[i]), vyi = simd::splat(vy[i]), vzi = simd::splat(vz[i]);
+    const float* const x4 = c.x4.data();
+    const float* const v = v4.data();
+    const F4 xi = simd::splat(x4[4 * i]), yi = simd::splat(x4[4 * i + 1]), zi = simd::splat(x4[4 * i + 2]);
+    const F4 vxi = simd::splat(v[4 * i]), vyi = simd::splat(v[4 * i + 1]), vzi = simd::splat(v[4 * i + 2]);
     const F4 e2 = simd::splat(eps2);
-    F4 ax = simd::splat(0.0f), ay = ax, az = ax;
+    F4 ax = simd::splat(0.0f), ay = ax, az = ax, rate = ax;
     const auto self = static_cast<std::uint32_t>(i);
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; p += 4) {
         const std::uint32_t n = c.pair_end[i] - p;
@@ -68,42 +75,47 @@ inline void viscosity_of(const DfsphContext& c, const DfsphChunkLists& l, std::s
         const DfsphPair& q1 = n > 1 ? l.pairs[p + 1] : none;
         const DfsphPair& q2 = n > 2 ? l.pairs[p + 2] : none;
         const DfsphPair& q3 = n > 3 ? l.pairs[p + 3] : none;
-        const std::uint32_t j0 = q0.j, j1 = q1.j, j2 = q2.j, j3 = q3.j;
-        const F4 dx = xi - simd::make(c.x[j0], c.x[j1], c.x[j2], c.x[j3]);
-        const F4 dy = yi - simd::make(c.y[j0], c.y[j1], c.y[j2], c.y[j3]);
-        const F4 dz = zi - simd::make(c.z[j0], c.z[j1], c.z[j2], c.z[j3]);
+        const std::size_t j0 = 4 * std::size_t(q0.j), j1 = 4 * std::size_t(q1.j), j2 = 4 * std::size_t(q2.j),
+                          j3 = 4 * std::size_t(q3.j);
+        F4 xj, yj, zj, vxj, vyj, vzj;
+        simd::columns3(simd::load(x4 + j0), simd::load(x4 + j1), simd::load(x4 + j2), simd::load(x4 + j3), xj,
+                       yj, zj);
+        simd::columns3(simd::load(v + j0), simd::load(v + j1), simd::load(v + j2), simd::load(v + j3), vxj,
+                       vyj, vzj);
+        const F4 dx = xi - xj, dy = yi - yj, dz = zi - zj;
         const F4 r2 = dx * dx + dy * dy + dz * dz;
-        const F4 vr = (vxi - simd::make(vx[j0], vx[j1], vx[j2], vx[j3])) * dx +
-                      (vyi - simd::make(vy[j0], vy[j1], vy[j2], vy[j3])) * dy +
-                      (vzi - simd::make(vz[j0], vz[j1], vz[j2], vz[j3])) * dz;
-        const F4 s = vr / (r2 + e2);
+        const F4 vr = (vxi - vxj) * dx + (vyi - vyj) * dy + (vzi - vzj) * dz;
         const F4 f = simd::make(q0.f, q1.f, q2.f, q3.f);
+        rate = rate + f * vr;
+        const F4 s = vr / (r2 + e2);
         ax = ax + s * (f * dx);
         ay = ay + s * (f * dy);
         az = az + s * (f * dz);
     }
     a[0] = simd::sum(ax), a[1] = simd::sum(ay), a[2] = simd::sum(az);
+    return simd::sum(rate);
+}
+
+// A residual's new total max(k_total + omega r alpha, 0), of which the change goes to k; returns the
+// error's share max(r, 0) dt.
+inline double relax(float r, float dt, float factor, float k_total, float& k) {
+    const float total = k_total + kDfsphRelaxation * r * factor;
+    k = (total > 0.0f ? total : 0.0f) - k_total;
+    return r > 0.0f ? double(r) * dt : 0.0;
 }
 
 }  // namespace
 
-double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                      DfsphResidual kind, float dt, std::span<const float> v4,
-                      std::span<const float> density_ratio, std::span<const float> factor,
-                      std::span<const float> k_total, std::span<float> k, float catch_up) {
+double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
+                      std::span<const float> v4, std::span<const float> density_ratio,
+                      std::span<const float> factor, std::span<const float> k_total, std::span<float> k,
+                      float catch_up) {
     const DfsphChunkLists& l = c.lists[chunk];
     double sum = 0.0;
     for (std::size_t i = begin; i < end; ++i) {
         const float rate = rate_of(c, l, i, v4);
-        float r = 0.0f;  // signed residual, per second
-        if (kind == DfsphResidual::kDivergence) {
-            r = c.support[i] >= c.min_support ? rate : 0.0f;
-        } else {
-            r = ((density_ratio[i] - 1.0f) * catch_up + dt * rate) / dt;
-        }
-        const float total = k_total[i] + kDfsphRelaxation * r * factor[i];
-        k[i] = (total > 0.0f ? total : 0.0f) - k_total[i];
-        sum += r > 0.0f ? double(r) * dt : 0.0;
+        const float r = ((density_ratio[i] - 1.0f) * catch_up + dt * rate) / dt;  // signed, per second
+        sum += relax(r, dt, factor[i], k_total[i], k[i]);
     }
     return sum;
 }
@@ -120,34 +132,32 @@ void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, 
     }
 }
 
-float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
-                    float nu, float h, const float gravity[3], std::span<const float> vx,
-                    std::span<const float> vy, std::span<const float> vz, std::span<const float> k_warm,
-                    const DfsphVelocities& out) {
+DfsphPredictSums dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                               float dt, float nu, float h, const float gravity[3], std::span<const float> v4,
+                               std::span<const float> k_warm, const DfsphDivergenceCheck& check,
+                               const DfsphVelocities& out) {
     const DfsphChunkLists& l = c.lists[chunk];
     const float eps2 = 0.01f * h * h;
     const float scale = 10.0f * nu;
-    float max_v2 = 0.0f;
+    DfsphPredictSums sums;
     for (std::size_t i = begin; i < end; ++i) {
-        const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
-        float ax = 0.0f, ay = 0.0f, az = 0.0f;
-        if (scale > 0.0f) {
-            float a[3];
-            viscosity_of(c, l, i, vx, vy, vz, eps2, a);
-            ax = a[0] * scale, ay = a[1] * scale, az = a[2] * scale;
-        }
-        const float px = vxi + dt * (ax + gravity[0]);
-        const float py = vyi + dt * (ay + gravity[1]);
-        const float pz = vzi + dt * (az + gravity[2]);
+        const float* const vi = &v4[4 * i];
+        float a[3];
+        const float rate = viscosity_and_rate(c, l, i, v4, eps2, a) + wall_rate(c, i, vi);
+        const float r = c.support[i] >= c.min_support ? rate : 0.0f;
+        sums.divergence_error += relax(r, dt, check.factor[i], check.k_total[i], check.k[i]);
+        const float px = vi[0] + dt * (a[0] * scale + gravity[0]);
+        const float py = vi[1] + dt * (a[1] * scale + gravity[1]);
+        const float pz = vi[2] + dt * (a[2] * scale + gravity[2]);
         const float v2 = px * px + py * py + pz * pz;
-        if (v2 > max_v2) max_v2 = v2;
+        if (v2 > sums.max_v2) sums.max_v2 = v2;
         float d[3];
         correction_of(c, l, i, k_warm, d);  // the pairs again, while they are in cache
         const float ox = px - d[0], oy = py - d[1], oz = pz - d[2];
         out.vx[i] = ox, out.vy[i] = oy, out.vz[i] = oz;
         out.v4[4 * i] = ox, out.v4[4 * i + 1] = oy, out.v4[4 * i + 2] = oz, out.v4[4 * i + 3] = 0.0f;
     }
-    return max_v2;
+    return sums;
 }
 
 }  // namespace rivulet

@@ -15,9 +15,12 @@
 //                to k_i; the error summed is max(r_i, 0) dt, a fraction of rest density
 //   correct:  v_i -= sum_j (k_i + k_j) V grad W_ij + k_i grad B_i
 // The total may shrink (an overshoot is taken back), which the per-iteration clamp of the 2015 paper
-// cannot do; omega = 1/2 damps Jacobi's checkerboard modes (as SPlisHSPlasH's solver does). Each pass
-// writes only particles [begin, end) and reads neighbours in list order: the bytes do not depend on the
-// split. Residual passes return their chunk's summed error (double) for the solver's average.
+// cannot do; omega = 1/2 damps Jacobi's checkerboard modes (as SPlisHSPlasH's solver does). The
+// divergence solve's residual is taken by the prediction's pass (dfsph_predict), which reads the same
+// pairs and velocities: warm-started, that solve is done at its first look on most substeps, and the
+// look then costs no pass of its own. Each pass writes only particles [begin, end) and reads neighbours
+// in list order: the bytes do not depend on the split. Residual passes return their chunk's summed error
+// (double) for the solver's average.
 #include <cmath>
 #include <cstddef>
 #include <span>
@@ -45,8 +48,6 @@ struct DfsphContext {
     float min_support = 0;
 };
 
-enum class DfsphResidual { kDivergence, kDensity };
-
 // A solve's warm start: the last substep's summed stiffness times `share` (the carried fraction times
 // the ratio of the steps). A particle the solves leave alone shrinks by the share every substep and
 // would reach subnormal floats after a few hundred, where every product of the passes costs tens of
@@ -60,22 +61,38 @@ inline float dfsph_warm_stiffness(float share, float last) {
 
 inline constexpr float kDfsphRelaxation = 0.5f;
 
-double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                      DfsphResidual kind, float dt, std::span<const float> v4,
-                      std::span<const float> density_ratio, std::span<const float> factor,
-                      std::span<const float> k_total, std::span<float> k, float catch_up = 1.0f);
+// The density solve's residual pass.
+double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
+                      std::span<const float> v4, std::span<const float> density_ratio,
+                      std::span<const float> factor, std::span<const float> k_total, std::span<float> k,
+                      float catch_up = 1.0f);
 
 void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
                    std::span<const float> k, const DfsphVelocities& v);
 
-// Non-pressure forces, explicit: gravity and viscosity (the SPH discretisation of nu lap v of Monaghan,
-// a_i = 10 nu sum_j V (v_ij . x_ij) / (|x_ij|^2 + 0.01 h^2) grad W_ij), and the density solve's warm
-// start: the correction of dfsph_correct with stiffness k_warm, in the same pass over the pairs (the same
-// bytes as a correction pass after it). Writes v*_i = v_i + dt a_i - correction_i to `out` (not in place:
-// neighbours read v) and returns the chunk's largest |v_i + dt a_i|^2.
-float dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
-                    float nu, float h, const float gravity[3], std::span<const float> vx,
-                    std::span<const float> vy, std::span<const float> vz, std::span<const float> k_warm,
-                    const DfsphVelocities& out);
+// The divergence solve's residual as dfsph_predict takes it: the stiffness summed so far (k_total) and
+// the factor in, the change out (k), as a residual pass writes them.
+struct DfsphDivergenceCheck {
+    std::span<const float> factor, k_total;
+    std::span<float> k;
+};
+struct DfsphPredictSums {
+    float max_v2 = 0;               // the chunk's largest |v_i + dt a_i|^2
+    double divergence_error = 0.0;  // the chunk's summed divergence error, as a residual pass's
+};
+
+// One pass over the pairs with the velocities v4 (packed: x, y, z, 0 a particle) that does two things:
+// - the divergence solve's residual (`check`), the rate summed per pair as V grad W_ij . (v_i - v_j);
+// - the prediction, valid once that solve is done: non-pressure forces, explicit, gravity and viscosity
+//   (the SPH discretisation of nu lap v of Monaghan, a_i = 10 nu sum_j V (v_ij . x_ij) / (|x_ij|^2 +
+//   0.01 h^2) grad W_ij), and the density solve's warm start (the correction of dfsph_correct with
+//   stiffness k_warm, the same bytes as a correction pass after it). Writes v*_i = v_i + dt a_i -
+//   correction_i to `out`, whose v4 must be another buffer (neighbours read v).
+// Where the divergence solve goes on, its correction follows and this pass again: the prediction made
+// here is then thrown away.
+DfsphPredictSums dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                               float dt, float nu, float h, const float gravity[3], std::span<const float> v4,
+                               std::span<const float> k_warm, const DfsphDivergenceCheck& check,
+                               const DfsphVelocities& out);
 
 }  // namespace rivulet

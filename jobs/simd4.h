@@ -64,6 +64,13 @@ inline float sum(F4 a) {
 inline F4 max(F4 a, F4 b) {
     return {_mm_max_ps(a.v, b.v)};
 }
+// The x, y and z columns of four packed records (x, y, z, w), w dropped: four neighbours' positions or
+// velocities from four loads instead of twelve.
+inline void columns3(F4 r0, F4 r1, F4 r2, F4 r3, F4& x, F4& y, F4& z) {
+    const __m128 xy01 = _mm_unpacklo_ps(r0.v, r1.v), xy23 = _mm_unpacklo_ps(r2.v, r3.v);
+    const __m128 zw01 = _mm_unpackhi_ps(r0.v, r1.v), zw23 = _mm_unpackhi_ps(r2.v, r3.v);
+    x = {_mm_movelh_ps(xy01, xy23)}, y = {_mm_movehl_ps(xy23, xy01)}, z = {_mm_movelh_ps(zw01, zw23)};
+}
 
 #else
 
@@ -113,6 +120,11 @@ inline void store(float* p, F4 a) {
 inline F4 max(F4 a, F4 b) {
     return {{a.v[0] > b.v[0] ? a.v[0] : b.v[0], a.v[1] > b.v[1] ? a.v[1] : b.v[1],
              a.v[2] > b.v[2] ? a.v[2] : b.v[2], a.v[3] > b.v[3] ? a.v[3] : b.v[3]}};
+}
+inline void columns3(F4 r0, F4 r1, F4 r2, F4 r3, F4& x, F4& y, F4& z) {
+    x = {{r0.v[0], r1.v[0], r2.v[0], r3.v[0]}};
+    y = {{r0.v[1], r1.v[1], r2.v[1], r3.v[1]}};
+    z = {{r0.v[2], r1.v[2], r2.v[2], r3.v[2]}};
 }
 
 #endif

@@ -174,7 +174,7 @@ void BM_DfsphNeighbours(benchmark::State& state) {
 BENCHMARK(BM_DfsphNeighbours)->Unit(benchmark::kMicrosecond);
 
 void BM_DfsphResidual(benchmark::State& state) {
-    sph_phases(state, SphSimulation::kDivergence, SphSimulation::kDivergence, SphSolver::kDfsph);
+    sph_phases(state, SphSimulation::kDensityError, SphSimulation::kDensityError, SphSolver::kDfsph);
 }
 BENCHMARK(BM_DfsphResidual)->Unit(benchmark::kMicrosecond);
 
@@ -182,6 +182,18 @@ void BM_DfsphCorrect(benchmark::State& state) {
     sph_phases(state, SphSimulation::kCorrect, SphSimulation::kCorrect, SphSolver::kDfsph);
 }
 BENCHMARK(BM_DfsphCorrect)->Unit(benchmark::kMicrosecond);
+
+// The rest of a substep: gravity, viscosity and the density solve's warm start (once), the cell sort
+// (the phases from the substep's start to the scatter) and the integration.
+void BM_DfsphPredict(benchmark::State& state) {
+    sph_phases(state, SphSimulation::kPredict, SphSimulation::kPredict, SphSolver::kDfsph);
+}
+BENCHMARK(BM_DfsphPredict)->Unit(benchmark::kMicrosecond);
+
+void BM_DfsphGrid(benchmark::State& state) {
+    sph_phases(state, SphSimulation::kSubstep, SphSimulation::kGridScatter, SphSolver::kDfsph);
+}
+BENCHMARK(BM_DfsphGrid)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

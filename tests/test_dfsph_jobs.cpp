@@ -123,8 +123,7 @@ TEST(DfsphJobs, DensitySolveDecompressesABlockAndConservesMomentum) {
     double first = 0, error = 0;
     int iterations = 0;
     for (; iterations < 200; ++iterations) {
-        error = dfsph_residual(c, 0, 0, n, DfsphResidual::kDensity, dt, v4, l.ratio, l.factor, total, k) /
-                double(n);
+        error = dfsph_residual(c, 0, 0, n, dt, v4, l.ratio, l.factor, total, k) / double(n);
         if (iterations == 0) first = error;
         if (error < 0.001) break;
         dfsph_correct(c, 0, 0, n, k, {vx, vy, vz, v4});
@@ -311,6 +310,71 @@ TEST(DfsphJobs, TheBuildAppliesTheWarmStartAsACorrectionPass) {
         EXPECT_EQ(fast.v4[4 * i + 3], 0.0f);
     }
     EXPECT_GT(largest, 1e-3) << "the correction moves the velocities";
+}
+
+// The prediction's pass also takes the divergence solve's residual: against both computed in double from
+// the lists, pair by pair (a compressing, sheared field, so the rate, the viscosity and the stiffness
+// all move; particles short of min_support are left out of the residual).
+TEST(DfsphJobs, ThePredictionTakesTheDivergenceResidualAndTheViscosity) {
+    const WalledCloud w(10);
+    const SortedCloud& cloud = w.cloud;
+    const std::size_t n = cloud.size();
+    Lists l(n);
+    w.build(l, l.out(), 0, n, false);
+    const float min_support = 20.0f;
+    const DfsphContext c{cloud.x, cloud.y, cloud.z, l.x4,      {&l.lists, 1}, l.begin,    l.end,
+                         l.gx,    l.gy,    l.gz,    l.support, {0, 0, 0},     min_support};
+    std::vector<float> v4(4 * n), k_total(n), k(n), k_warm(n, 0.0f);
+    const float centre = 5.0f * 0.93f * WalledCloud::d;
+    for (std::size_t i = 0; i < n; ++i) {
+        v4[4 * i] = -0.5f * (cloud.x[i] - centre) + 0.3f * cloud.y[i];
+        v4[4 * i + 1] = -0.5f * (cloud.y[i] - centre);
+        v4[4 * i + 2] = -0.5f * (cloud.z[i] - centre) - 0.2f * cloud.x[i];
+        k_total[i] = 1e-7f * float(i % 5);
+    }
+    std::vector<float> ox(n), oy(n), oz(n), o4(4 * n);
+    const float dt = 0.002f, nu = 1e-3f, g[3] = {0.0f, -9.81f, 0.0f};
+    const DfsphPredictSums sums = dfsph_predict(c, 0, 0, n, dt, nu, WalledCloud::h, g, v4, k_warm,
+                                                {l.factor, k_total, k}, {ox, oy, oz, o4});
+    double error = 0, largest_k = 0, largest_a = 0;
+    int left_out = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        double rate = 0, a[3] = {0, 0, 0};
+        for (std::uint32_t p = l.begin[i]; p < l.end[i]; ++p) {
+            const DfsphPair q = l.lists.pairs[p];
+            double dx[3], dv[3];
+            for (int e = 0; e < 3; ++e)
+                dx[e] = double(l.x4[4 * i + e]) - l.x4[4 * q.j + e],
+                dv[e] = double(v4[4 * i + e]) - v4[4 * q.j + e];
+            const double vr = dv[0] * dx[0] + dv[1] * dx[1] + dv[2] * dx[2];
+            const double r2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+            rate += double(q.f) * vr;
+            for (int e = 0; e < 3; ++e)
+                a[e] += 10.0 * nu * vr / (r2 + 0.01 * WalledCloud::h * WalledCloud::h) * double(q.f) * dx[e];
+        }
+        rate +=
+            double(l.gx[i]) * v4[4 * i] + double(l.gy[i]) * v4[4 * i + 1] + double(l.gz[i]) * v4[4 * i + 2];
+        const double r = l.support[i] >= min_support ? rate : 0.0;
+        left_out += l.support[i] < min_support;
+        const double total = k_total[i] + 0.5 * r * l.factor[i];
+        const double expect_k = std::max(total, 0.0) - k_total[i];
+        EXPECT_NEAR(k[i], expect_k, 1e-4 * std::abs(expect_k) + 1e-12) << i;
+        error += std::max(r, 0.0) * dt;
+        largest_k = std::max(largest_k, std::abs(expect_k));
+        for (int e = 0; e < 3; ++e) {
+            const double expect_v = double(v4[4 * i + e]) + dt * (a[e] + g[e]);
+            EXPECT_NEAR(o4[4 * i + e], expect_v, 1e-6 * (1.0 + std::abs(expect_v))) << i;
+            largest_a = std::max(largest_a, std::abs(a[e]));
+        }
+        EXPECT_EQ(ox[i], o4[4 * i]);
+        EXPECT_EQ(o4[4 * i + 3], 0.0f);
+    }
+    EXPECT_NEAR(sums.divergence_error, error, 1e-4 * error);
+    EXPECT_GT(error, 1e-3) << "the field compresses";
+    EXPECT_GT(largest_k, 1e-9) << "the residual moves the stiffness";
+    EXPECT_GT(largest_a, 1e-3) << "the shear gives a viscous force";
+    EXPECT_GT(left_out, 0) << "the corners are short of support";
+    EXPECT_LT(left_out, int(n) / 2);
 }
 
 TEST(DfsphJobs, AWarmStartLeftAloneReachesZeroWithoutTurningSubnormal) {

@@ -299,6 +299,7 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
             a->reserve(n);
         source_.reserve(n);
         v4_.reserve(4 * n);
+        v4_next_.reserve(4 * n);
         x4_.reserve(4 * n);
         lists_.resize(chunks_);
         const std::size_t per_chunk = n / chunks_ + 1;
@@ -405,21 +406,24 @@ std::size_t SphSimulation::next_phase() {
         case kGridScatter:
             next = dfsph ? kWarmStart : kDensity;
             break;
-        case kNeighbours:  // the divergence solve's warm start is applied: its first residual comes next
+        case kNeighbours:  // the divergence solve's warm start is applied: the prediction takes its residual
             solve_ = Solve::kDivergence, iterations_ = 0;
-            next = kDivergence;
+            next = kPredict;
             break;
-        case kDivergence:
-            next = solve_done(desc_.max_divergence_error) ? kPredict : kCorrect;
+        case kPredict:
+            if (!solve_done(desc_.max_divergence_error)) {  // the prediction is thrown away
+                next = kCorrect;
+                break;
+            }
+            // The density solve's warm start is applied with the prediction: its first residual comes next.
+            std::swap(v4_, v4_next_);
+            solve_ = Solve::kDensity, iterations_ = 0;
+            next = kDensityError;
             break;
         case kCorrect:
             ++iterations_;
             ++(solve_ == Solve::kDivergence ? divergence_iterations_ : density_iterations_);
-            next = solve_ == Solve::kDivergence ? kDivergence : kDensityError;
-            break;
-        case kPredict:  // the density solve's warm start is applied: its first residual comes next
-            solve_ = Solve::kDensity, iterations_ = 0;
-            next = kDensityError;
+            next = solve_ == Solve::kDivergence ? kPredict : kDensityError;
             break;
         case kDensityError:
             next = solve_done(desc_.max_density_error) ? kIntegrate : kCorrect;
@@ -554,11 +558,6 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
             for (std::size_t i = b; i < e; ++i) rho_[i] = desc_.rest_density * ratio_[i];
             break;
         }
-        case kDivergence:
-            chunk_error_[chunk] = dfsph_residual(dfsph_context(), chunk, b, e, DfsphResidual::kDivergence,
-                                                 dt_sub_, v4_.span(4 * n_), ratio_.span(n_), factor_.span(n_),
-                                                 k_div_sum_.span(n_), k_.span(n_));
-            break;
         case kCorrect: {
             float* sum = solve_ == Solve::kDivergence ? k_div_sum_.data() : k_den_sum_.data();
             for (std::size_t i = b; i < e; ++i) sum[i] += k_[i];
@@ -573,17 +572,18 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
         }
         case kPredict: {
             const float g[3] = {fluid_.gx, fluid_.gy, fluid_.gz};
-            chunk_v2_[chunk] =
-                dfsph_predict(dfsph_context(), chunk, b, e, dt_sub_, desc_.viscosity / desc_.rest_density,
-                              cubic_.h, g, svx_.span(n_), svy_.span(n_), svz_.span(n_), k_den_sum_.span(n_),
-                              {ax_.span(n_), ay_.span(n_), az_.span(n_), v4_.span(4 * n_)});
+            const DfsphPredictSums sums = dfsph_predict(
+                dfsph_context(), chunk, b, e, dt_sub_, desc_.viscosity / desc_.rest_density, cubic_.h, g,
+                v4_.span(4 * n_), k_den_sum_.span(n_), {factor_.span(n_), k_div_sum_.span(n_), k_.span(n_)},
+                {ax_.span(n_), ay_.span(n_), az_.span(n_), v4_next_.span(4 * n_)});
+            chunk_v2_[chunk] = sums.max_v2;
+            chunk_error_[chunk] = sums.divergence_error;
             break;
         }
         case kDensityError:
-            chunk_error_[chunk] =
-                dfsph_residual(dfsph_context(), chunk, b, e, DfsphResidual::kDensity, dt_sub_,
-                               v4_.span(4 * n_), ratio_.span(n_), factor_.span(n_), k_den_sum_.span(n_),
-                               k_.span(n_), std::min(1.0f, dt_sub_ / kDensityCatchUp));
+            chunk_error_[chunk] = dfsph_residual(dfsph_context(), chunk, b, e, dt_sub_, v4_.span(4 * n_),
+                                                 ratio_.span(n_), factor_.span(n_), k_den_sum_.span(n_),
+                                                 k_.span(n_), std::min(1.0f, dt_sub_ / kDensityCatchUp));
             break;
         default:
             throw std::out_of_range("SphSimulation::run_phase: no such phase");

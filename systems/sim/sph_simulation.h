@@ -73,9 +73,8 @@ class SphSimulation {
         kIntegrate,     // parallel: velocities, positions, boundaries; written back into the ParticleSet
         kWarmStart,     // DFSPH, parallel: both solves' warm-start stiffness, into the new order
         kNeighbours,    // DFSPH, parallel: neighbour lists, density ratio, factor, the divergence warm start
-        kDivergence,    // DFSPH, parallel: divergence solve residual
+        kPredict,       // DFSPH, parallel: divergence solve residual; gravity, viscosity, density warm start
         kCorrect,       // DFSPH, parallel: velocity correction of either solve
-        kPredict,       // DFSPH, parallel: gravity and viscosity
         kDensityError,  // DFSPH, parallel: density solve residual
         kPhaseCount
     };
@@ -136,9 +135,8 @@ class SphSimulation {
                                                                 {"sph.integrate", true},
                                                                 {"sph.warm_start", true},
                                                                 {"sph.neighbours", true},
-                                                                {"sph.divergence", true},
-                                                                {"sph.correct", true},
                                                                 {"sph.predict", true},
+                                                                {"sph.correct", true},
                                                                 {"sph.density_error", true}}};
     enum class Solve { kDivergence, kDensity };
 
@@ -196,9 +194,10 @@ class SphSimulation {
     // index, this substep's and the last one's (read through source_, the index before the sort).
     AlignedArray<float> k_div_sum_, k_den_sum_, k_div_last_, k_den_last_;
     AlignedArray<std::uint32_t> source_;
-    AlignedArray<float> v4_;  // the solve's velocities packed (DfsphVelocities::v4)
-    AlignedArray<float> x4_;  // the sorted positions packed (DfsphParticleOut::x4)
-    float dt_last_ = 0;       // the last substep's length (0: nothing to warm-start from)
+    AlignedArray<float> v4_;       // the solve's velocities packed (DfsphVelocities::v4)
+    AlignedArray<float> v4_next_;  // the prediction's, which reads v4_; the two swap after it
+    AlignedArray<float> x4_;       // the sorted positions packed (DfsphParticleOut::x4)
+    float dt_last_ = 0;            // the last substep's length (0: nothing to warm-start from)
     AlignedArray<double> chunk_error_;
 };
 
