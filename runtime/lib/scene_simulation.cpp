@@ -38,7 +38,7 @@ void SceneSimulation::begin_frame() {
     }
     if (sph_) {
         sph_->set_container_offset(last_inputs_.container_offset);
-        substeps_ = sph_->begin_frame(particles_, last_frame_);
+        sph_->begin_frame(particles_, last_frame_);
         return;
     }
     stream_->set_inputs(last_inputs_);

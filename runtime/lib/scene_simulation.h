@@ -41,8 +41,6 @@ class SceneSimulation {
     HeightFieldView pool_view() const { return stream_ ? stream_->pool_view() : HeightFieldView{}; }
     // Diffuse scenes: the object (null otherwise).
     const DiffuseSimulation* diffuse() const { return diffuse_.get(); }
-    // SPH: substeps of the last frame (0 for streams).
-    int last_substeps() const { return substeps_; }
     // SPH scenes: the simulation (its last frame's solver figures); null otherwise.
     const SphSimulation* sph() const { return sph_.get(); }
     const SceneDesc& scene() const { return scene_; }
@@ -57,7 +55,6 @@ class SceneSimulation {
     std::unique_ptr<StreamSimulation> stream_;  // one of the two
     std::unique_ptr<SphSimulation> sph_;
     std::unique_ptr<DiffuseSimulation> diffuse_;
-    int substeps_ = 0;
     std::uint64_t next_frame_ = 0, last_frame_ = 0;
     FrameInputs last_inputs_;
 };

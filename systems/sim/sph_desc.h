@@ -76,9 +76,10 @@ struct SphDesc {
     float max_density_error = 0.1f;
     float max_divergence_error = 0.1f;
     int max_iterations = 100;
-    // Time: one frame is `dt`, split into substeps of equal length by the CFL condition
-    // (WCSPH: dt_sub <= cfl * h / (c0 + v_max), the force condition 0.25 sqrt(h / a_max); DFSPH:
-    // dt_sub <= cfl * spacing / v_max, v_max including one frame of gravity and the walls' speed) and the
+    // Time: one frame is `dt`, split into substeps by the CFL condition (WCSPH: equal substeps with
+    // dt_sub <= cfl * h / (c0 + v_max) and the force condition 0.25 sqrt(h / a_max), from the frame's
+    // start; DFSPH: each substep from the speeds at its start, dt_sub <= cfl * spacing / v_max, v_max
+    // including the substep's gravity and the walls' speed, the frame's time left split evenly) and the
     // viscous condition 0.125 h^2 rho0 / mu, at most max_substeps. The WCSPH-only keys (sound_speed,
     // gamma, artificial_viscosity, tension) are ignored by DFSPH. Simulated time always advances by dt per
     // frame: if max_substeps is too small the substeps exceed those limits and the fluid can blow up.

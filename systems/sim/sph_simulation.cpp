@@ -341,43 +341,65 @@ void SphSimulation::seed(ParticleSet& ps) {
     dt_last_ = 0;
 }
 
-int SphSimulation::begin_frame(ParticleSet& ps, std::uint64_t frame) {
+void SphSimulation::begin_frame(ParticleSet& ps, std::uint64_t frame) {
     if (ps.size() != n_) throw std::logic_error("SphSimulation: particle count changed since seed()");
     const double frame_dt = desc_.dt;
     offset_begin_ = offset_now_;
     offset_end_ = scripted_offset(double(frame + 1) * frame_dt);
 
-    // Step limits from the current state: speed (WCSPH: CFL on c0 + |v|max; DFSPH: on |v|max plus a frame
-    // of gravity), acceleration of the last substep (WCSPH), viscosity.
     float v2 = 0;
     const auto vx = ps.vx(), vy = ps.vy(), vz = ps.vz();
     for (std::size_t i = 0; i < n_; ++i) v2 = std::max(v2, vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]);
     const Vec3f wall_v = (offset_end_ - offset_begin_) * static_cast<float>(1.0 / frame_dt);
-    const double vmax = std::sqrt(double(v2)) + double(length(wall_v));
-    const double h = fluid_.kernels.h;
-    double limit = frame_dt;
-    if (desc_.solver == SphSolver::kDfsph) {
-        // The pressure solve predicts density to first order in the step: a step also keeps the
-        // displacement gravity alone gives (g dt^2) under 5 % of the spacing.
-        const double g = double(length(desc_.gravity)), d = desc_.spacing;
-        const double reach = vmax + g * frame_dt;
-        if (reach > 0) limit = double(desc_.cfl) * d / reach;
-        if (g > 0) limit = std::min(limit, std::sqrt(0.05 * d / g));
-    } else {
-        float a2 = dot(desc_.gravity, desc_.gravity);
-        for (std::size_t c = 0; c < chunks_; ++c) a2 = std::max(a2, chunk_a2_[c]);
-        limit = double(desc_.cfl) * h / (double(desc_.sound_speed) + vmax);
-        if (a2 > 0) limit = std::min(limit, 0.25 * std::sqrt(h / std::sqrt(double(a2))));
+    wall_speed_ = length(wall_v);
+    v2_start_ = v2;
+    substep_ = 0;
+    frame_left_ = frame_dt;
+    last_phase_ = kPhaseCount;
+    divergence_iterations_ = density_iterations_ = 0;
+    density_error_ = 0;
+    if (desc_.solver == SphSolver::kDfsph) {  // each substep picks its own length (start_dfsph_substep)
+        substeps_ = 0;
+        return;
     }
+    // WCSPH: equal substeps from the limits at the frame's start: CFL on c0 + |v|max, the acceleration of
+    // the last substep, viscosity.
+    const double vmax = std::sqrt(double(v2)) + double(wall_speed_);
+    const double h = fluid_.kernels.h;
+    float a2 = dot(desc_.gravity, desc_.gravity);
+    for (std::size_t c = 0; c < chunks_; ++c) a2 = std::max(a2, chunk_a2_[c]);
+    double limit = double(desc_.cfl) * h / (double(desc_.sound_speed) + vmax);
+    if (a2 > 0) limit = std::min(limit, 0.25 * std::sqrt(h / std::sqrt(double(a2))));
     if (desc_.viscosity > 0) limit = std::min(limit, 0.125 * h * h * desc_.rest_density / desc_.viscosity);
     const double wanted = std::ceil(frame_dt / limit - 1e-9);
     substeps_ = static_cast<int>(std::clamp(wanted, 1.0, double(desc_.max_substeps)));
     dt_sub_ = static_cast<float>(frame_dt / substeps_);
-    substep_ = 0;
-    last_phase_ = kPhaseCount;
-    divergence_iterations_ = density_iterations_ = 0;
-    density_error_ = 0;
-    return substeps_;
+}
+
+// DFSPH: a substep is limited by the speed at its start (the fastest particle: v2_start_ on a frame's
+// first substep, the last integration's otherwise; plus the walls' speed) and the speed a substep of
+// gravity adds, dt <= cfl d / (v + g dt), solved for dt; by keeping the displacement gravity alone gives
+// (g dt^2) under 5 % of the spacing (the pressure solve predicts density to first order in the step); and
+// by the viscous limit. The frame's remaining time is split into equal substeps of at most that length,
+// so the frame ends on time without a sliver of a last step, and the frame takes at most max_substeps.
+void SphSimulation::start_dfsph_substep() {
+    float v2 = v2_start_;
+    if (substep_ > 0) {
+        v2 = 0;
+        for (std::size_t c = 0; c < chunks_; ++c) v2 = std::max(v2, chunk_v2_[c]);
+    }
+    const double v = std::sqrt(double(v2)) + double(wall_speed_);
+    const double g = double(length(desc_.gravity)), d = desc_.spacing, h = fluid_.kernels.h;
+    const double reach = double(desc_.cfl) * d;
+    const double root = v + std::sqrt(v * v + 4.0 * g * reach);
+    double limit = root > 0 ? 2.0 * reach / root : frame_left_;
+    if (g > 0) limit = std::min(limit, std::sqrt(0.05 * d / g));
+    if (desc_.viscosity > 0) limit = std::min(limit, 0.125 * h * h * desc_.rest_density / desc_.viscosity);
+    const double most = double(desc_.max_substeps - substep_);  // >= 1: the frame ends at max_substeps
+    const double count = std::clamp(std::ceil(frame_left_ / limit - 1e-9), 1.0, most);
+    const double dt = frame_left_ / count;
+    frame_left_ = count > 1.0 ? frame_left_ - dt : 0.0;
+    dt_sub_ = static_cast<float>(dt);
 }
 
 bool SphSimulation::solve_done(float max_error_percent) {
@@ -401,7 +423,7 @@ std::size_t SphSimulation::next_phase() {
             }
             [[fallthrough]];
         case kPhaseCount:
-            next = substep_ < substeps_ ? kSubstep : kPhaseCount;
+            next = (dfsph ? frame_left_ > 0.0 : substep_ < substeps_) ? kSubstep : kPhaseCount;
             break;
         case kGridScatter:
             next = dfsph ? kWarmStart : kDensity;
@@ -463,8 +485,16 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
     const std::uint32_t cells = grid_.cells();
     switch (phase) {
         case kSubstep: {
-            // The container moves linearly over the frame; this substep ends at fraction (s + 1) / S.
-            const float f = static_cast<float>(substep_ + 1) / static_cast<float>(substeps_);
+            // The container moves linearly over the frame; f: the fraction of the frame at this substep's
+            // end.
+            float f = 0.0f;
+            if (desc_.solver == SphSolver::kDfsph) {
+                start_dfsph_substep();
+                substeps_ = substep_ + 1;
+                f = frame_left_ > 0.0 ? static_cast<float>(1.0 - frame_left_ / double(desc_.dt)) : 1.0f;
+            } else {
+                f = static_cast<float>(substep_ + 1) / static_cast<float>(substeps_);
+            }
             const Vec3f before = offset_now_;
             offset_now_ = offset_begin_ + (offset_end_ - offset_begin_) * f;
             const BoxCollider t = tank();

@@ -11,10 +11,10 @@
 //       (every chunk of phase p finishes before next_phase is asked again)
 //   end_frame(ps);                                              // serial
 // A WCSPH substep is substep, grid_count, grid_cursors, grid_offsets, grid_scatter, density, forces,
-// integrate. A DFSPH substep is substep, the four grid phases, neighbours, then the divergence solve
-// (divergence, then correct + divergence until its error is small), predict, the density solve
-// (density_error, then correct + density_error until small) and integrate: next_phase decides the
-// iterations from the chunks' error sums, added in chunk order.
+// integrate. A DFSPH substep is substep, the four grid phases, warm_start, neighbours, then predict (which
+// also takes the divergence solve's residual; correct + predict until that error is small), the density
+// solve (density_error, then correct + density_error until small) and integrate: next_phase decides the
+// iterations from the chunks' error sums, added in chunk order, and the substeps from frame time left.
 //
 // chunks() is fixed at construction (from max_particles), never from the thread count; every parallel
 // phase writes only its chunk's slots and every sum runs in a fixed neighbour order, so the bytes after a
@@ -88,8 +88,9 @@ class SphSimulation {
     // ids 0..n-1, and resets time and the container. Throws std::length_error beyond max_particles.
     void seed(ParticleSet& ps);
 
-    // Serial: places the container for this frame and picks the substep count (CFL-limited, <= max).
-    int begin_frame(ParticleSet& ps, std::uint64_t frame);
+    // Serial: places the container for this frame; WCSPH picks the frame's substep count here (equal
+    // substeps, CFL-limited, <= max), DFSPH each substep's length as it starts (same limits, <= max).
+    void begin_frame(ParticleSet& ps, std::uint64_t frame);
     // Serial: the phase to run next, kPhaseCount when the frame's substeps are done.
     std::size_t next_phase();
     std::span<const SphPhase> phases() const { return kPhases; }
@@ -111,7 +112,7 @@ class SphSimulation {
     float particle_mass() const { return fluid_.mass; }
     float support() const { return fluid_.kernels.h; }
     const SphFluidParams& fluid() const { return fluid_; }
-    int substeps() const { return substeps_; }
+    int substeps() const { return substeps_; }  // the frame's, so far
     // DFSPH, over the last frame: solver iterations (velocity corrections) summed over its substeps, and
     // the largest average density error (fraction of rest density) a substep's pressure solve left.
     int divergence_iterations() const { return divergence_iterations_; }
@@ -145,7 +146,7 @@ class SphSimulation {
     SphNeighbourhood neighbourhood() const;
     DfsphContext dfsph_context() const;
     bool solve_done(float max_error_percent);
-    // Starts a solve: its first phase (the warm start's correction when there is one, else its residual).
+    void start_dfsph_substep();
 
     SphDesc desc_;
     SphFluidParams fluid_;
@@ -163,6 +164,9 @@ class SphSimulation {
     int substeps_ = 1;
     int substep_ = 0;
     float dt_sub_ = 0;
+    double frame_left_ = 0;  // of the frame's dt, after the substep running
+    float v2_start_ = 0;     // the largest |v|^2 at the frame's start
+    float wall_speed_ = 0;   // the container's, over the frame
     std::size_t last_phase_ = kPhaseCount;
     Solve solve_ = Solve::kDivergence;
     int iterations_ = 0;
