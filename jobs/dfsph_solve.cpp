@@ -106,6 +106,18 @@ inline double relax(float r, float dt, float factor, float k_total, float& k) {
 
 }  // namespace
 
+double dfsph_divergence_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                                 float dt, std::span<const float> v4, std::span<const float> factor,
+                                 std::span<const float> k_total, std::span<float> k) {
+    const DfsphChunkLists& l = c.lists[chunk];
+    double sum = 0.0;
+    for (std::size_t i = begin; i < end; ++i) {
+        const float r = c.support[i] >= c.min_support ? rate_of(c, l, i, v4) : 0.0f;
+        sum += relax(r, dt, factor[i], k_total[i], k[i]);
+    }
+    return sum;
+}
+
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
                       std::span<const float> v4, std::span<const float> density_ratio,
                       std::span<const float> factor, std::span<const float> k_total, std::span<float> k,

@@ -16,7 +16,7 @@
 //   correct:  v_i -= sum_j (k_i + k_j) V grad W_ij + k_i grad B_i
 // The total may shrink (an overshoot is taken back), which the per-iteration clamp of the 2015 paper
 // cannot do; omega = 1/2 damps Jacobi's checkerboard modes (as SPlisHSPlasH's solver does). The
-// divergence solve's residual is taken by the prediction's pass (dfsph_predict), which reads the same
+// divergence solve's residual can be taken by the prediction's pass (dfsph_predict), which reads the same
 // pairs and velocities: warm-started, that solve is done at its first look on most substeps, and the
 // look then costs no pass of its own. Each pass writes only particles [begin, end) and reads neighbours
 // in list order: the bytes do not depend on the split. Residual passes return their chunk's summed error
@@ -60,6 +60,11 @@ inline float dfsph_warm_stiffness(float share, float last) {
 }
 
 inline constexpr float kDfsphRelaxation = 0.5f;
+
+// The divergence solve's residual pass, where dfsph_predict does not take it.
+double dfsph_divergence_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                                 float dt, std::span<const float> v4, std::span<const float> factor,
+                                 std::span<const float> k_total, std::span<float> k);
 
 // The density solve's residual pass.
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,

@@ -50,6 +50,7 @@ int share_of(std::size_t phase) {
         case SphSimulation::kNeighbours:
         case SphSimulation::kDensity:
             return 0;
+        case SphSimulation::kDivergence:
         case SphSimulation::kCorrect:
         case SphSimulation::kDensityError:
         case SphSimulation::kForces:

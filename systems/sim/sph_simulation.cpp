@@ -339,6 +339,7 @@ void SphSimulation::seed(ParticleSet& ps) {
     divergence_iterations_ = density_iterations_ = 0;
     density_error_ = 0;
     dt_last_ = 0;
+    look_in_prediction_ = true;
 }
 
 void SphSimulation::begin_frame(ParticleSet& ps, std::uint64_t frame) {
@@ -428,15 +429,22 @@ std::size_t SphSimulation::next_phase() {
         case kGridScatter:
             next = dfsph ? kWarmStart : kDensity;
             break;
-        case kNeighbours:  // the divergence solve's warm start is applied: the prediction takes its residual
+        case kNeighbours:  // the divergence solve's warm start is applied: its first residual comes next
             solve_ = Solve::kDivergence, iterations_ = 0;
-            next = kPredict;
+            divergence_done_ = false;
+            next = look_in_prediction_ ? kPredict : kDivergence;
+            break;
+        case kDivergence:
+            divergence_done_ = solve_done(desc_.max_divergence_error);
+            next = divergence_done_ ? kPredict : kCorrect;
             break;
         case kPredict:
-            if (!solve_done(desc_.max_divergence_error)) {  // the prediction is thrown away
+            if (!divergence_done_ &&
+                !solve_done(desc_.max_divergence_error)) {  // the prediction is thrown away
                 next = kCorrect;
                 break;
             }
+            look_in_prediction_ = iterations_ == 0;
             // The density solve's warm start is applied with the prediction: its first residual comes next.
             std::swap(v4_, v4_next_);
             solve_ = Solve::kDensity, iterations_ = 0;
@@ -445,7 +453,7 @@ std::size_t SphSimulation::next_phase() {
         case kCorrect:
             ++iterations_;
             ++(solve_ == Solve::kDivergence ? divergence_iterations_ : density_iterations_);
-            next = solve_ == Solve::kDivergence ? kPredict : kDensityError;
+            next = solve_ == Solve::kDivergence ? kDivergence : kDensityError;
             break;
         case kDensityError:
             next = solve_done(desc_.max_density_error) ? kIntegrate : kCorrect;
@@ -600,6 +608,11 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
             }
             break;
         }
+        case kDivergence:
+            chunk_error_[chunk] =
+                dfsph_divergence_residual(dfsph_context(), chunk, b, e, dt_sub_, v4_.span(4 * n_),
+                                          factor_.span(n_), k_div_sum_.span(n_), k_.span(n_));
+            break;
         case kPredict: {
             const float g[3] = {fluid_.gx, fluid_.gy, fluid_.gz};
             const DfsphPredictSums sums = dfsph_predict(

@@ -11,8 +11,8 @@
 //       (every chunk of phase p finishes before next_phase is asked again)
 //   end_frame(ps);                                              // serial
 // A WCSPH substep is substep, grid_count, grid_cursors, grid_offsets, grid_scatter, density, forces,
-// integrate. A DFSPH substep is substep, the four grid phases, warm_start, neighbours, then predict (which
-// also takes the divergence solve's residual; correct + predict until that error is small), the density
+// integrate. A DFSPH substep is substep, the four grid phases, warm_start, neighbours, then the divergence
+// solve's residual (divergence, or predict taking it; correct + divergence until small), predict, the density
 // solve (density_error, then correct + density_error until small) and integrate: next_phase decides the
 // iterations from the chunks' error sums, added in chunk order, and the substeps from frame time left.
 //
@@ -73,7 +73,8 @@ class SphSimulation {
         kIntegrate,     // parallel: velocities, positions, boundaries; written back into the ParticleSet
         kWarmStart,     // DFSPH, parallel: both solves' warm-start stiffness, into the new order
         kNeighbours,    // DFSPH, parallel: neighbour lists, density ratio, factor, the divergence warm start
-        kPredict,       // DFSPH, parallel: divergence solve residual; gravity, viscosity, density warm start
+        kDivergence,    // DFSPH, parallel: divergence solve residual, where the prediction does not take it
+        kPredict,       // DFSPH, parallel: gravity, viscosity, density warm start (+ divergence residual)
         kCorrect,       // DFSPH, parallel: velocity correction of either solve
         kDensityError,  // DFSPH, parallel: density solve residual
         kPhaseCount
@@ -136,6 +137,7 @@ class SphSimulation {
                                                                 {"sph.integrate", true},
                                                                 {"sph.warm_start", true},
                                                                 {"sph.neighbours", true},
+                                                                {"sph.divergence", true},
                                                                 {"sph.predict", true},
                                                                 {"sph.correct", true},
                                                                 {"sph.density_error", true}}};
@@ -171,6 +173,11 @@ class SphSimulation {
     Solve solve_ = Solve::kDivergence;
     int iterations_ = 0;
     int divergence_iterations_ = 0, density_iterations_ = 0;
+    // The divergence solve's first look is the prediction's pass where the last substep's solve was done
+    // at its first look (then the look costs no pass of its own); else a residual pass, so that a solve
+    // that goes on does not throw a prediction away at every look.
+    bool look_in_prediction_ = true;
+    bool divergence_done_ = false;
     double density_error_ = 0;
     Vec3f user_offset_;
     Vec3f offset_begin_, offset_end_, offset_now_;
