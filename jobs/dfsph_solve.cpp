@@ -104,17 +104,21 @@ inline double relax(float r, float dt, float factor, float k_total, float& k) {
     return r > 0.0f ? double(r) * dt : 0.0;
 }
 
+// The divergence solve's residual of particle i from its rate, relaxed into check.k; a particle with
+// under min_support (a surface particle, whose deficient density would read as expansion) counts 0.
+inline double relax_divergence(const DfsphContext& c, std::size_t i, float rate, float dt,
+                               const DfsphDivergenceCheck& check) {
+    const float r = c.support[i] >= c.min_support ? rate : 0.0f;
+    return relax(r, dt, check.factor[i], check.k_total[i], check.k[i]);
+}
+
 }  // namespace
 
 double dfsph_divergence_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                                 float dt, std::span<const float> v4, std::span<const float> factor,
-                                 std::span<const float> k_total, std::span<float> k) {
+                                 float dt, std::span<const float> v4, const DfsphDivergenceCheck& check) {
     const DfsphChunkLists& l = c.lists[chunk];
     double sum = 0.0;
-    for (std::size_t i = begin; i < end; ++i) {
-        const float r = c.support[i] >= c.min_support ? rate_of(c, l, i, v4) : 0.0f;
-        sum += relax(r, dt, factor[i], k_total[i], k[i]);
-    }
+    for (std::size_t i = begin; i < end; ++i) sum += relax_divergence(c, i, rate_of(c, l, i, v4), dt, check);
     return sum;
 }
 
@@ -156,8 +160,7 @@ DfsphPredictSums dfsph_predict(const DfsphContext& c, std::size_t chunk, std::si
         const float* const vi = &v4[4 * i];
         float a[3];
         const float rate = viscosity_and_rate(c, l, i, v4, eps2, a) + wall_rate(c, i, vi);
-        const float r = c.support[i] >= c.min_support ? rate : 0.0f;
-        sums.divergence_error += relax(r, dt, check.factor[i], check.k_total[i], check.k[i]);
+        sums.divergence_error += relax_divergence(c, i, rate, dt, check);
         const float px = vi[0] + dt * (a[0] * scale + gravity[0]);
         const float py = vi[1] + dt * (a[1] * scale + gravity[1]);
         const float pz = vi[2] + dt * (a[2] * scale + gravity[2]);

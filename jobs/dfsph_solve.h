@@ -61,10 +61,16 @@ inline float dfsph_warm_stiffness(float share, float last) {
 
 inline constexpr float kDfsphRelaxation = 0.5f;
 
+// What the divergence solve's residual reads and writes besides the velocities: the factor and the
+// stiffness summed so far (k_total) in, the change out (k).
+struct DfsphDivergenceCheck {
+    std::span<const float> factor, k_total;
+    std::span<float> k;
+};
+
 // The divergence solve's residual pass, where dfsph_predict does not take it.
 double dfsph_divergence_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                                 float dt, std::span<const float> v4, std::span<const float> factor,
-                                 std::span<const float> k_total, std::span<float> k);
+                                 float dt, std::span<const float> v4, const DfsphDivergenceCheck& check);
 
 // The density solve's residual pass.
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
@@ -75,12 +81,6 @@ double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begi
 void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
                    std::span<const float> k, const DfsphVelocities& v);
 
-// The divergence solve's residual as dfsph_predict takes it: the stiffness summed so far (k_total) and
-// the factor in, the change out (k), as a residual pass writes them.
-struct DfsphDivergenceCheck {
-    std::span<const float> factor, k_total;
-    std::span<float> k;
-};
 struct DfsphPredictSums {
     float max_v2 = 0;               // the chunk's largest |v_i + dt a_i|^2
     double divergence_error = 0.0;  // the chunk's summed divergence error, as a residual pass's

@@ -183,8 +183,9 @@ void BM_DfsphCorrect(benchmark::State& state) {
 }
 BENCHMARK(BM_DfsphCorrect)->Unit(benchmark::kMicrosecond);
 
-// The rest of a substep: gravity, viscosity and the density solve's warm start (once), the cell sort
-// (the phases from the substep's start to the scatter) and the integration.
+// The rest of a substep: the prediction (gravity, viscosity, the density solve's warm start and the
+// divergence solve's first look, once) and the cell sort (the phases from the substep's start to the
+// scatter).
 void BM_DfsphPredict(benchmark::State& state) {
     sph_phases(state, SphSimulation::kPredict, SphSimulation::kPredict, SphSolver::kDfsph);
 }

@@ -611,7 +611,7 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
         case kDivergence:
             chunk_error_[chunk] =
                 dfsph_divergence_residual(dfsph_context(), chunk, b, e, dt_sub_, v4_.span(4 * n_),
-                                          factor_.span(n_), k_div_sum_.span(n_), k_.span(n_));
+                                          {factor_.span(n_), k_div_sum_.span(n_), k_.span(n_)});
             break;
         case kPredict: {
             const float g[3] = {fluid_.gx, fluid_.gy, fluid_.gz};
