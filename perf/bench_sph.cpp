@@ -6,8 +6,10 @@
 // share of time in neighbour work (grid sort and lists), solver iterations and the rest, and the hash of
 // the last frame's particles (positions, velocities, ids), which must be the same at every thread count.
 //   bench_sph [--quick] [--frames N] [--sizes 8000,24000] [--threads 1,2] [--solver dfsph|wcsph]
-//             [--cfl X] [--max-error PERCENT] [--chunks N]
+//             [--cfl X] [--max-error PERCENT] [--chunks N] [--scene dambreak|reference]
 // --chunks: pieces per parallel phase (0: the simulation's own choice, SphSimulation's constructor).
+// --scene reference: SPlisHSPlasH's DamBreakModel geometry (make_dambreak_reference), on which the
+// reference figures of docs/sph.md were measured; 24,389 particles there are its 29^3 lattice.
 // --quick: 8k and 24k, 60 frames. Defaults: 8k, 24k, 64k, 256k; 180 frames (3 s); threads 1 and 2.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -125,6 +127,7 @@ int main(int argc, char** argv) try {
     rivulet::SphSolver solver = rivulet::SphSolver::kDfsph;
     float cfl = 0, max_error = 0;
     long chunks = 0;
+    std::string scene = "dambreak";
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const bool more = i + 1 < argc;
@@ -145,20 +148,29 @@ int main(int argc, char** argv) try {
             max_error = static_cast<float>(std::atof(argv[++i]));
         } else if (a == "--chunks" && more) {
             chunks = std::max(0L, std::atol(argv[++i]));
+        } else if (a == "--scene" && more) {
+            scene = argv[++i];
+            if (scene != "dambreak" && scene != "reference") {
+                std::fprintf(stderr, "bench_sph: --scene must be dambreak or reference\n");
+                return 2;
+            }
         } else {
             std::fprintf(stderr,
                          "usage: bench_sph [--quick] [--frames N] [--sizes a,b] [--threads a,b] "
-                         "[--solver dfsph|wcsph] [--cfl X] [--max-error PERCENT] [--chunks N]\n");
+                         "[--solver dfsph|wcsph] [--cfl X] [--max-error PERCENT] [--chunks N] "
+                         "[--scene dambreak|reference]\n");
             return 2;
         }
     }
-    std::printf("SPH dam break, %s, %d frames of 1/60 s (%.1f s simulated), Release\n",
+    std::printf("SPH dam break (%s), %s, %d frames of 1/60 s (%.1f s simulated), Release\n", scene.c_str(),
                 solver == rivulet::SphSolver::kDfsph ? "DFSPH" : "WCSPH", frames, frames / 60.0);
     std::printf("%9s %7s %8s %8s %8s %8s %8s %8s %8s %9s %6s %6s %6s %16s\n", "particles", "threads",
                 "frames/s", "release", "surge", "splash", "substeps", "div_it", "dens_it", "max_err%", "nbr%",
                 "solve%", "rest%", "hash");
     for (long size : sizes) {
-        rivulet::SphDesc desc = rivulet::make_dambreak(std::size_t(std::max(size, 100L)));
+        const std::size_t count = std::size_t(std::max(size, 100L));
+        rivulet::SphDesc desc =
+            scene == "reference" ? rivulet::make_dambreak_reference(count) : rivulet::make_dambreak(count);
         desc.solver = solver;
         if (cfl > 0) desc.cfl = cfl;
         if (max_error > 0) desc.max_density_error = max_error;

@@ -119,6 +119,34 @@ TEST(SphSim, SeedIsALatticeWithIdsInOrderAndFramesKeepEveryId) {
     }
 }
 
+// The reference dam break (SPlisHSPlasH's DamBreakModel geometry, bench_sph --scene reference): 24,389
+// particles are its 29^3 lattice filling the 1 m cube column, which stands off the floor, the left wall and
+// both side walls.
+TEST(SphSim, TheReferenceDamBreakIsATwentyNineCubedColumn) {
+    const SphDesc desc = make_dambreak_reference();
+    EXPECT_NEAR(desc.spacing, 1.0f / 29.0f, 1e-6f);
+    const std::size_t n = sph_seed_count(desc);
+    ASSERT_EQ(n, 24389u);
+    SphSimulation sim(desc, n);
+    ParticleSet ps(n);
+    sim.seed(ps);
+    float lo[3] = {1e9f, 1e9f, 1e9f}, hi[3] = {-1e9f, -1e9f, -1e9f};
+    for (std::size_t i = 0; i < n; ++i) {
+        const float p[3] = {ps.x()[i], ps.y()[i], ps.z()[i]};
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    }
+    const float d = desc.spacing;
+    const float column_lo[3] = {0.05f, 0.05f, 0.25f};
+    for (int a = 0; a < 3; ++a) {  // the lattice's outer centres half a spacing inside the column
+        EXPECT_NEAR(lo[a], column_lo[a] + 0.5f * d, 1e-4f) << "axis " << a;
+        EXPECT_NEAR(hi[a], column_lo[a] + 1.0f - 0.5f * d, 1e-4f) << "axis " << a;
+    }
+    const BoxCollider t = sim.tank();
+    EXPECT_FLOAT_EQ(t.max.x - t.min.x, 4.0f);
+    EXPECT_FLOAT_EQ(t.max.y - t.min.y, 3.0f);
+    EXPECT_FLOAT_EQ(t.max.z - t.min.z, 1.5f);
+}
+
 TEST(SphSim, SteadyStateFramesDoNotAllocate) {
     const SphDesc desc = make_drop(1500);
     const std::size_t n = sph_seed_count(desc);

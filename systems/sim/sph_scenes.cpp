@@ -66,6 +66,22 @@ SphDesc make_dambreak(std::size_t particles) {
     return d;
 }
 
+SphDesc make_dambreak_reference(std::size_t particles) {
+    // A cube column a = 1 m on each side, 0.05 m off the floor, the left wall and centred across; tank
+    // 4 x 3 x 1.5 m.
+    SphDesc d;
+    d.name = "dambreak_reference";
+    const float a = 1.0f, gap = 0.05f;
+    d.spacing = spacing_for(double(a) * a * a, particles);
+    d.container.box = {{0, 0, 0}, {4.0f, 3.0f, 1.5f}};
+    d.fluid_boxes.push_back({{gap, gap, 0.25f}, {gap + a, gap + a, 0.25f + a}, {}});
+    d.sound_speed = sound_speed_for(a, 9.81f);
+    d.viscosity = 0.05f * a;
+    d.max_substeps = 256;
+    d.bounds = frame_bounds(d);
+    return d;
+}
+
 SphDesc make_drop(std::size_t particles) {
     // A pool 0.15 m deep in a 0.6 x 0.6 m tank; a ball of radius 0.1 m starting 0.25 m above it at
     // 1 m/s downwards. Surface tension on (it shapes the ball and the splash).

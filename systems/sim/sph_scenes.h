@@ -12,6 +12,9 @@
 namespace rivulet {
 
 SphDesc make_dambreak(std::size_t particles = 25000);
+// The dam break of SPlisHSPlasH's DamBreakModel scene, the reference of docs/sph.md's speed figures: a
+// cube column 1 m high in a tank 4 m long, 3 m high and 1.5 m across (benchmarks only).
+SphDesc make_dambreak_reference(std::size_t particles = 24389);
 SphDesc make_drop(std::size_t particles = 25000);
 SphDesc make_slosh(std::size_t particles = 25000);
 
