@@ -204,6 +204,9 @@ class SphSimulation {
     // Warm start (Bender & Koschier 2017): each solve's stiffness summed over its corrections, by sorted
     // index, this substep's and the last one's (read through source_, the index before the sort).
     AlignedArray<float> k_div_sum_, k_den_sum_, k_div_last_, k_den_last_;
+    // The density solve's stiffness of the substep before the last (k_den_before_, by the last substep's
+    // sorted index; k_den_before_next_ by this one's): its warm start is the smaller of the two.
+    AlignedArray<float> k_den_before_, k_den_before_next_;
     AlignedArray<std::uint32_t> source_;
     AlignedArray<float> v4_;       // the solve's velocities packed (DfsphVelocities::v4)
     AlignedArray<float> v4_next_;  // the prediction's, which reads v4_; the two swap after it
