@@ -422,7 +422,7 @@ TEST(SphSim, DfsphSubstepsHoldTheCflAtTheirStartAndEndTheFrameOnTime) {
 // no work, and pressure and viscosity only trade and dissipate it. The 1 m column of the reference dam
 // break hits the far wall at 6 m/s around frame 50; at half the default CFL number (twice the substeps
 // a second) a solve warm-started from the last substep's stiffness pushed the stopped fluid out again at
-// every substep, and the energy grew sixfold by frame 100. Coarse (2,000 particles) to stay short.
+// every substep, and the energy grew sixfold by frame 100. Coarse (a 12^3 lattice) to stay short.
 TEST(SphSim, DfsphWallImpactAddsNoEnergy) {
     SphDesc desc = make_dambreak_reference(2000);
     desc.cfl = 0.2f;

@@ -143,16 +143,15 @@ namespace {
 constexpr std::uint64_t kListPairs = 40;
 // The density error a substep starts with is removed over at least this time (s).
 constexpr float kDensityCatchUp = 0.004f;
-// Share of the last substep's summed stiffness each solve starts from (1 overshoots: the stiffness of a
-// substep includes its own error's correction, which the next one does not need again).
+// Share of the last substep's summed stiffness the divergence solve starts from (1 overshoots: the
+// stiffness of a substep includes its own error's correction, which the next one does not need again).
 constexpr float kWarmStartShare = 0.8f;
 // The density solve starts from this share of the smaller of the last two substeps' stiffness. What a
 // substep needs again is the steady part (the pressure that holds the fluid up against gravity), which
-// both have; an impact's stiffness stops the fluid once, and the velocity it gave persists. Warm-started
-// from the last substep alone, the next one pushed the stopped fluid out again: a 1 m dam break against
-// the far wall gained 70 % in mechanical energy (jets at 15 m/s), and at CFL 0.2, twice the pushes per
-// second, the dam break blew up. A solve that ends at its first look never takes such a push back: its
-// test counts compression only, averaged over every particle.
+// both have; an impact's stiffness stops the fluid once, and the velocity it gave persists, so starting
+// from the last substep alone pushes the stopped fluid out again, and a solve that ends at its first look
+// never takes that back (its test counts compression only, averaged over every particle): the fluid
+// gains energy at every wall impact (test DfsphWallImpactAddsNoEnergy). 1.0 adds some again.
 constexpr float kDensityWarmShare = 0.9f;
 
 std::size_t default_chunks(std::size_t max_particles) {
@@ -341,7 +340,7 @@ void SphSimulation::seed(ParticleSet& ps) {
     offset_begin_ = offset_end_ = offset_now_ = scripted_offset(0.0);
     for (std::size_t c = 0; c < chunks_; ++c) chunk_a2_[c] = 0, chunk_v2_[c] = 0;
     for (std::size_t i = 0; i < n_; ++i) rho_[i] = desc_.rest_density, p_[i] = 0;
-    if (desc_.solver == SphSolver::kDfsph)  // the first substep's warm start reads them, scaled by zero
+    if (desc_.solver == SphSolver::kDfsph)  // the first two substeps' warm starts read them (zero anyway)
         for (std::size_t i = 0; i < n_; ++i) k_div_last_[i] = 0, k_den_last_[i] = 0, k_den_before_[i] = 0;
     last_phase_ = kPhaseCount;
     divergence_iterations_ = density_iterations_ = 0;
@@ -585,8 +584,9 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
             break;
         }
         case kWarmStart: {
-            // The last substep's stiffness, scaled to this step, as each solve's starting sum: the list
-            // build applies the divergence solve's, the prediction the density solve's.
+            // Each solve's starting sum from the last substeps' stiffness (kWarmStartShare,
+            // kDensityWarmShare), scaled to this step: the list build applies the divergence solve's, the
+            // prediction the density solve's.
             const float ratio = dt_last_ > 0.0f ? dt_sub_ / dt_last_ : 0.0f;
             const float warm_div = kWarmStartShare * ratio, warm_den = kDensityWarmShare * ratio;
             for (std::size_t i = b; i < e; ++i) {
