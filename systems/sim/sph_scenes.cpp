@@ -67,14 +67,14 @@ SphDesc make_dambreak(std::size_t particles) {
 }
 
 SphDesc make_dambreak_reference(std::size_t particles) {
-    // A cube column a = 1 m on each side, 0.05 m off the floor, the left wall and centred across; tank
-    // 4 x 3 x 1.5 m.
+    // A cube column a = 1 m on each side, `gap` off the floor and the left wall, centred across.
     SphDesc d;
     d.name = "dambreak_reference";
-    const float a = 1.0f, gap = 0.05f;
+    const float a = 1.0f, gap = 0.05f, length = 4.0f, height = 3.0f, depth = 1.5f;
+    const float z0 = 0.5f * (depth - a);
     d.spacing = spacing_for(double(a) * a * a, particles);
-    d.container.box = {{0, 0, 0}, {4.0f, 3.0f, 1.5f}};
-    d.fluid_boxes.push_back({{gap, gap, 0.25f}, {gap + a, gap + a, 0.25f + a}, {}});
+    d.container.box = {{0, 0, 0}, {length, height, depth}};
+    d.fluid_boxes.push_back({{gap, gap, z0}, {gap + a, gap + a, z0 + a}, {}});
     d.sound_speed = sound_speed_for(a, 9.81f);
     d.viscosity = 0.05f * a;
     d.max_substeps = 256;
