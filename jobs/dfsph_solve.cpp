@@ -96,42 +96,51 @@ inline float viscosity_and_rate(const DfsphContext& c, const DfsphChunkLists& l,
     return simd::sum(rate);
 }
 
-// A residual's new total max(k_total + omega r alpha, 0), of which the change goes to k; returns the
-// error's share max(r, 0) dt.
-inline double relax(float r, float dt, float factor, float k_total, float& k) {
-    const float total = k_total + kDfsphRelaxation * r * factor;
-    k = (total > 0.0f ? total : 0.0f) - k_total;
+// A residual's new total: relaxed Jacobi's max(k_total + omega r alpha, 0), or with Chebyshev weight
+// w != 1 that extrapolated from the total an iteration back (k_total - k: k still holds the change last
+// applied), clamped at 0 again. The change goes to k; returns the error's share max(r, 0) dt.
+inline double relax(float r, float dt, float factor, float k_total, float& k, float w) {
+    const float step = k_total + kDfsphRelaxation * r * factor;
+    float total = step > 0.0f ? step : 0.0f;
+    if (w != 1.0f) {
+        const float before = k_total - k;
+        const float extrapolated = before + w * (total - before);
+        total = extrapolated > 0.0f ? extrapolated : 0.0f;
+    }
+    k = total - k_total;
     return r > 0.0f ? double(r) * dt : 0.0;
 }
 
 // The divergence solve's residual of particle i from its rate, relaxed into check.k; a particle with
 // under min_support (a surface particle, whose deficient density would read as expansion) counts 0.
 inline double relax_divergence(const DfsphContext& c, std::size_t i, float rate, float dt,
-                               const DfsphDivergenceCheck& check) {
+                               const DfsphDivergenceCheck& check, float w) {
     const float r = c.support[i] >= c.min_support ? rate : 0.0f;
-    return relax(r, dt, check.factor[i], check.k_total[i], check.k[i]);
+    return relax(r, dt, check.factor[i], check.k_total[i], check.k[i], w);
 }
 
 }  // namespace
 
 double dfsph_divergence_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                                 float dt, std::span<const float> v4, const DfsphDivergenceCheck& check) {
+                                 float dt, std::span<const float> v4, const DfsphDivergenceCheck& check,
+                                 float chebyshev) {
     const DfsphChunkLists& l = c.lists[chunk];
     double sum = 0.0;
-    for (std::size_t i = begin; i < end; ++i) sum += relax_divergence(c, i, rate_of(c, l, i, v4), dt, check);
+    for (std::size_t i = begin; i < end; ++i)
+        sum += relax_divergence(c, i, rate_of(c, l, i, v4), dt, check, chebyshev);
     return sum;
 }
 
 double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
                       std::span<const float> v4, std::span<const float> density_ratio,
                       std::span<const float> factor, std::span<const float> k_total, std::span<float> k,
-                      float catch_up) {
+                      float catch_up, float chebyshev) {
     const DfsphChunkLists& l = c.lists[chunk];
     double sum = 0.0;
     for (std::size_t i = begin; i < end; ++i) {
         const float rate = rate_of(c, l, i, v4);
         const float r = ((density_ratio[i] - 1.0f) * catch_up + dt * rate) / dt;  // signed, per second
-        sum += relax(r, dt, factor[i], k_total[i], k[i]);
+        sum += relax(r, dt, factor[i], k_total[i], k[i], chebyshev);
     }
     return sum;
 }
@@ -160,7 +169,7 @@ DfsphPredictSums dfsph_predict(const DfsphContext& c, std::size_t chunk, std::si
         const float* const vi = &v4[4 * i];
         float a[3];
         const float rate = viscosity_and_rate(c, l, i, v4, eps2, a) + wall_rate(c, i, vi);
-        sums.divergence_error += relax_divergence(c, i, rate, dt, check);
+        sums.divergence_error += relax_divergence(c, i, rate, dt, check, 1.0f);  // the solve's first look
         const float px = vi[0] + dt * (a[0] * scale + gravity[0]);
         const float py = vi[1] + dt * (a[1] * scale + gravity[1]);
         const float pz = vi[2] + dt * (a[2] * scale + gravity[2]);

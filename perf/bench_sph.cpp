@@ -125,7 +125,7 @@ int main(int argc, char** argv) try {
     std::vector<long> sizes{8000, 24000, 64000, 256000}, threads{1, 2};
     int frames = 180;
     rivulet::SphSolver solver = rivulet::SphSolver::kDfsph;
-    float cfl = 0, max_error = 0;
+    float cfl = 0, max_error = 0, chebyshev = -1;
     long chunks = 0;
     std::string scene = "dambreak";
     for (int i = 1; i < argc; ++i) {
@@ -144,6 +144,8 @@ int main(int argc, char** argv) try {
                 std::string(argv[++i]) == "wcsph" ? rivulet::SphSolver::kWcsph : rivulet::SphSolver::kDfsph;
         } else if (a == "--cfl" && more) {
             cfl = static_cast<float>(std::atof(argv[++i]));
+        } else if (a == "--chebyshev" && more) {
+            chebyshev = static_cast<float>(std::atof(argv[++i]));
         } else if (a == "--max-error" && more) {
             max_error = static_cast<float>(std::atof(argv[++i]));
         } else if (a == "--chunks" && more) {
@@ -155,10 +157,11 @@ int main(int argc, char** argv) try {
                 return 2;
             }
         } else {
-            std::fprintf(stderr,
-                         "usage: bench_sph [--quick] [--frames N] [--sizes a,b] [--threads a,b] "
-                         "[--solver dfsph|wcsph] [--cfl X] [--max-error PERCENT] [--chunks N] "
-                         "[--scene dambreak|reference]\n");
+            std::fprintf(
+                stderr,
+                "usage: bench_sph [--quick] [--frames N] [--sizes a,b] [--threads a,b] "
+                "[--solver dfsph|wcsph] [--cfl X] [--chebyshev RHO] [--max-error PERCENT] [--chunks N] "
+                "[--scene dambreak|reference]\n");
             return 2;
         }
     }
@@ -173,6 +176,7 @@ int main(int argc, char** argv) try {
             scene == "reference" ? rivulet::make_dambreak_reference(count) : rivulet::make_dambreak(count);
         desc.solver = solver;
         if (cfl > 0) desc.cfl = cfl;
+        if (chebyshev >= 0) desc.chebyshev = chebyshev;
         if (max_error > 0) desc.max_density_error = max_error;
         for (long t : threads) {
             const Row r = run(desc, int(t), frames, std::size_t(chunks));

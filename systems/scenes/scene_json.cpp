@@ -65,6 +65,7 @@ void members(SphDesc& d, F&& f) {
     f("solver", d.solver), f("spacing", d.spacing), f("support_ratio", d.support_ratio);
     f("rest_density", d.rest_density), f("max_density_error", d.max_density_error);
     f("max_divergence_error", d.max_divergence_error), f("max_iterations", d.max_iterations);
+    f("chebyshev", d.chebyshev);
     f("sound_speed", d.sound_speed), f("gamma", d.gamma), f("viscosity", d.viscosity);
     f("artificial_viscosity", d.artificial_viscosity), f("surface_tension", d.surface_tension);
     f("tension", d.tension), f("tension_threshold", d.tension_threshold), f("container", d.container);

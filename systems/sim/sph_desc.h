@@ -76,20 +76,29 @@ struct SphDesc {
     float max_density_error = 0.1f;
     float max_divergence_error = 0.1f;
     int max_iterations = 100;
+    // DFSPH: both solves' relaxed Jacobi iterations are accelerated by Chebyshev's semi-iterative method
+    // with this estimate of the iteration's spectral radius (jobs/dfsph_solve.h); 0: plain Jacobi.
+    float chebyshev = 0.8f;
     // Time: one frame is `dt`, split into substeps by the CFL condition (WCSPH: equal substeps with
     // dt_sub <= cfl * h / (c0 + v_max) and the force condition 0.25 sqrt(h / a_max), from the frame's
     // start; DFSPH: each substep from the speeds at its start, dt_sub <= cfl * spacing / v_max, v_max
     // including the substep's gravity and the walls' speed, the frame's time left split evenly) and the
-    // viscous condition 0.125 h^2 rho0 / mu, at most max_substeps. The WCSPH-only keys (sound_speed,
-    // gamma, artificial_viscosity, tension) are ignored by DFSPH. Simulated time always advances by dt per
-    // frame: if max_substeps is too small the substeps exceed those limits and the fluid can blow up.
+    // viscous condition 0.125 h^2 rho0 / mu, at most max_substeps. cfl 0 takes the solver's own number
+    // (step_cfl). The WCSPH-only keys (sound_speed, gamma, artificial_viscosity, tension) are ignored by
+    // DFSPH. Simulated time always advances by dt per frame: if max_substeps is too small the substeps
+    // exceed those limits and the fluid can blow up.
     float dt = 1.0f / 60.0f;
-    float cfl = 0.4f;
+    float cfl = 0.0f;
     int max_substeps = 64;
     // Framing for the renderer: a box holding the tank over its whole motion.
     BoxCollider bounds;
 
     float support() const { return support_ratio * spacing; }
+    // The CFL number the substeps use: `cfl`, or where that is 0 the solver's: DFSPH 0.75 spacing a
+    // substep (its solves hold the density at any step, but from 0.85 on a coarse dam break gains energy
+    // at its impacts; docs/sph.md), WCSPH 0.4 of h over the sound speed (an explicit step must resolve
+    // the pressure waves).
+    float step_cfl() const { return cfl > 0.0f ? cfl : solver == SphSolver::kDfsph ? 0.75f : 0.4f; }
 };
 
 // Number of particles seeding `desc` places (lattice points inside its fluid boxes and spheres), counted

@@ -172,6 +172,7 @@ class SphSimulation {
     std::size_t last_phase_ = kPhaseCount;
     Solve solve_ = Solve::kDivergence;
     int iterations_ = 0;
+    float chebyshev_ = 1.0f;  // the next residual pass's weight (dfsph_chebyshev_weight)
     int divergence_iterations_ = 0, density_iterations_ = 0;
     // The divergence solve's first look is the prediction's pass where the last substep's solve was done
     // at its first look (then the look costs no pass of its own); else a residual pass, so that a solve
