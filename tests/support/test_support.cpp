@@ -49,10 +49,24 @@ std::size_t count_open_edges(std::span<const float> p, std::span<const std::uint
         std::count_if(edges.begin(), edges.end(), [](auto& kv) { return kv.second != 2; }));
 }
 
+namespace {
+// The test process's own folder under the system's temporary directory, removed when the process ends
+// (a test that crashes leaves it for a look); ctest runs every test as a process of its own, and each
+// one used to leave its folder behind: thousands after a day of runs.
+struct TempFolder {
+    std::filesystem::path path =
+        std::filesystem::temp_directory_path() / ("rivulet-test-" + std::to_string(::getpid()));
+    ~TempFolder() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+};
+}  // namespace
+
 std::string temp_path(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / ("rivulet-test-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    return (dir / name).string();
+    static const TempFolder folder;
+    std::filesystem::create_directories(folder.path);
+    return (folder.path / name).string();
 }
 
 Result run_cli(const std::string& args, const std::string& environment) {
