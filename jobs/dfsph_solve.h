@@ -67,11 +67,18 @@ inline float dfsph_warm_stiffness(float share, float last) {
 
 inline constexpr float kDfsphRelaxation = 0.5f;
 
+// The weights apply to a solve's first iterations only (the 24k dam break's solves take at most about
+// 15); past them plain relaxed Jacobi goes on. The clamp at zero makes a solve nonlinear, and a few
+// solves of the 256k dam break, extrapolated to the iteration limit, stalled at 0.19 % average error
+// where plain Jacobi reached 0.118 %.
+inline constexpr int kDfsphChebyshevIterations = 30;
+
 // The Chebyshev weight of the residual pass after `iterations` corrections, from the last weight and
 // rho, an estimate of the relaxed Jacobi iteration's spectral radius in [0, 1): 1 (plain Jacobi) before
-// the first correction and where rho is 0, then w_1 = 2 / (2 - rho^2), w_m = 4 / (4 - rho^2 w_{m-1}).
+// the first correction, past kDfsphChebyshevIterations and where rho is 0, else w_1 = 2 / (2 - rho^2),
+// w_m = 4 / (4 - rho^2 w_{m-1}).
 inline float dfsph_chebyshev_weight(float rho, int iterations, float last) {
-    if (rho <= 0.0f || iterations <= 0) return 1.0f;
+    if (rho <= 0.0f || iterations <= 0 || iterations > kDfsphChebyshevIterations) return 1.0f;
     const float rho2 = rho * rho;
     return iterations == 1 ? 2.0f / (2.0f - rho2) : 4.0f / (4.0f - rho2 * last);
 }

@@ -168,6 +168,7 @@ TEST(DfsphJobs, DensitySolveDecompressesABlockAndConservesMomentum) {
 TEST(DfsphJobs, ChebyshevWeightsReachTheBoundInFewerIterations) {
     EXPECT_EQ(dfsph_chebyshev_weight(0.9f, 0, 1.0f), 1.0f);
     EXPECT_EQ(dfsph_chebyshev_weight(0.0f, 3, 1.2f), 1.0f);
+    EXPECT_EQ(dfsph_chebyshev_weight(0.9f, kDfsphChebyshevIterations + 1, 1.2f), 1.0f);
     EXPECT_FLOAT_EQ(dfsph_chebyshev_weight(0.9f, 1, 1.0f), 2.0f / (2.0f - 0.81f));
     EXPECT_FLOAT_EQ(dfsph_chebyshev_weight(0.9f, 2, 1.68f), 4.0f / (4.0f - 0.81f * 1.68f));
     for (const float dt : {0.002f, 0.004f}) {

@@ -432,10 +432,10 @@ TEST(SphSim, DfsphSubstepsHoldTheCflAtTheirStartAndEndTheFrameOnTime) {
 
 // A dam break's mechanical energy (kinetic plus potential, per particle) never grows: walls at rest do
 // no work, and pressure and viscosity only trade and dissipate it. The 1 m column of the reference dam
-// break hits the far wall at 6 m/s around frame 50; at half the default CFL number (twice the substeps
-// a second) a solve warm-started from the last substep's stiffness pushed the stopped fluid out again at
-// every substep, and the energy grew sixfold by frame 100. Coarse (a 12^3 lattice) to stay short. At that
-// CFL number with plain Jacobi iterations, and at the solver's own (0.75, nearly four times the substep;
+// break hits the far wall at 6 m/s around frame 50; at CFL 0.2 (half the number then the default, twice
+// the substeps a second) a solve warm-started from the last substep's stiffness pushed the stopped fluid out
+// again at every substep, and the energy grew sixfold by frame 100. Coarse (a 12^3 lattice) to stay short. At
+// that CFL number with plain Jacobi iterations, and at the solver's own (0.75, nearly four times the substep;
 // from 0.85 on this coarse column ends frame 15 above its starting energy) with and without the
 // Chebyshev acceleration, whose extrapolated stiffness must not overshoot into energy either. (At 0.2
 // with Chebyshev one frame gains 1.1 %, 1.7 % over the run, never above the start; docs/sph.md.)

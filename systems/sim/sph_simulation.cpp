@@ -153,11 +153,6 @@ constexpr float kWarmStartShare = 0.8f;
 // never takes that back (its test counts compression only, averaged over every particle): the fluid
 // gains energy at every wall impact (test DfsphEnergyTest). 1.0 adds some again.
 constexpr float kDensityWarmShare = 0.9f;
-// The Chebyshev weights apply to a solve's first iterations only (the 24k dam break's solves take at
-// most about 15); past them plain relaxed Jacobi goes on. The clamp at zero makes a solve nonlinear, and
-// a few solves of the 256k dam break, extrapolated to the iteration limit, stalled at 0.19 % average
-// error where plain Jacobi reached 0.118 %.
-constexpr int kChebyshevIterations = 30;
 
 std::size_t default_chunks(std::size_t max_particles) {
     return std::clamp<std::size_t>((max_particles + 1023) / 1024, 1, 64);
@@ -466,9 +461,7 @@ std::size_t SphSimulation::next_phase() {
             break;
         case kCorrect:
             ++iterations_;
-            chebyshev_ = iterations_ <= kChebyshevIterations
-                             ? dfsph_chebyshev_weight(desc_.chebyshev, iterations_, chebyshev_)
-                             : 1.0f;
+            chebyshev_ = dfsph_chebyshev_weight(desc_.chebyshev, iterations_, chebyshev_);
             ++(solve_ == Solve::kDivergence ? divergence_iterations_ : density_iterations_);
             next = solve_ == Solve::kDivergence ? kDivergence : kDensityError;
             break;
