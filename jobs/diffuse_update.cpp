@@ -189,20 +189,7 @@ struct Lanes {
         }
     }
     // Bit l set where lane l of the comparison result is true.
-    RIVULET_INLINE static unsigned bits(const I& m) {
-        U t;
-        if constexpr (L == 8) {
-            t = U(m) & U{1, 2, 4, 8, 16, 32, 64, 128};
-            t |= __builtin_shufflevector(t, t, 4, 5, 6, 7, 0, 1, 2, 3);
-            t |= __builtin_shufflevector(t, t, 2, 3, 0, 1, 6, 7, 4, 5);
-            t |= __builtin_shufflevector(t, t, 1, 0, 3, 2, 5, 4, 7, 6);
-        } else {
-            t = U(m) & U{1, 2, 4, 8};
-            t |= __builtin_shufflevector(t, t, 2, 3, 0, 1);
-            t |= __builtin_shufflevector(t, t, 1, 0, 3, 2);
-        }
-        return t[0];
-    }
+    RIVULET_INLINE static unsigned bits(const I& m) { return lane_bits(m); }
 };
 
 // One row of the step table at each lane's column. Eight lanes and eight columns: one permute where the
@@ -425,6 +412,15 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
         const int l = __builtin_ctz(b);
         const std::size_t k = i + std::size_t(l);
         std::uint32_t* move = lists.moves + 2 * lists.move_n++;
+        // A voxel of the same material and colour gives the particle the targets it has: it keeps its
+        // interpolation (a particle fading in still takes the voxel's interpolation time, where starting
+        // over on every crossing would never let a jittering one arrive), and only the move is listed.
+        if (voxel[l] != kOutsideVoxel && new_column[l] == old_column[l] && !fading[l] &&
+            ctx.voxel_rgba[voxel[l]] == to_rgba[l]) {
+            move[0] = old_voxel[l], move[1] = voxel[l];
+            A.voxel[k] = voxel[l];
+            continue;
+        }
         bool faded;
         if constexpr (L == 8)
             faded = change_voxel_avx2(ctx, k, old_voxel[l], voxel[l], elapsed[l], move);

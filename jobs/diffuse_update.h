@@ -3,10 +3,11 @@
 // systems inside voxelized surface geometry", §4.3, §5): each particle moves by the force of the voxel it
 // is in, bounces off the colliders it crosses, looks up its new voxel, and on entering one starts
 // interpolating towards that voxel's colour and size; outside the active voxels it fades by its last
-// voxel's fading attributes and dies when faded. A kernel is (block, context); it runs eight particles
-// to a vector (four without AVX2), the motion and the lookups in lanes, and falls back to one particle
-// at a time only where a lane meets a collider's box or changes voxel. Either build gives the bits of
-// apply_voxel_step and of the other build.
+// voxel's fading attributes and dies when faded. A voxel whose targets are the particle's own (the same
+// material and colour) is no new target: the particle keeps interpolating as it was. A kernel is (block,
+// context); it runs eight particles to a vector (four without AVX2), the motion and the lookups in lanes, and
+// falls back to one particle at a time only where a lane meets a collider's box or changes voxel. Either
+// build gives the bits of apply_voxel_step and of the other build.
 #include <cstddef>
 #include <cstdint>
 #include <span>

@@ -43,4 +43,20 @@ struct VectorLanes<8> {
     r = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
 }
 
+// Bit l set where lane l of a comparison result (all ones or zero per lane) is set: the lanes' sign bits
+// (movmskps), eight lanes as two halves as in lane_sqrt.
+[[gnu::always_inline]] inline unsigned lane_bits(const VectorLanes<4>::i& m) {
+#if defined(__SSE2__)
+    return static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(__m128i(m))));
+#else
+    unsigned b = 0;
+    for (int k = 0; k < 4; ++k) b |= unsigned(m[k] < 0) << k;
+    return b;
+#endif
+}
+[[gnu::always_inline]] inline unsigned lane_bits(const VectorLanes<8>::i& m) {
+    return lane_bits(VectorLanes<4>::i(__builtin_shufflevector(m, m, 0, 1, 2, 3))) |
+           lane_bits(VectorLanes<4>::i(__builtin_shufflevector(m, m, 4, 5, 6, 7))) << 4;
+}
+
 }  // namespace rivulet

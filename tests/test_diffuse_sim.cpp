@@ -162,6 +162,36 @@ TEST(DiffuseUpdate, ReenteringStopsTheFadeAndResetsTheLifetime) {
     EXPECT_EQ(t.sprite[0].rgba, 0x80ffffffu);
 }
 
+// Two active voxels of one material: crossing into the one of the same colour leaves the particle's
+// fade-in running; crossing into one of another colour starts a new interpolation from where it was.
+TEST(DiffuseUpdate, AVoxelOfTheSameLookKeepsTheInterpolationAndAnotherStartsANewOne) {
+    for (const bool same : {true, false}) {
+        TwoVoxels t(0.95f, 6.0f);  // into voxel 1 on the first step
+        t.material = {0, 0}, t.column = {0, 0};
+        t.voxel_rgba = {0x80ffffffu, same ? 0x80ffffffu : 0x8000ff00u};
+        t.from_rgba = {0x00ffffffu}, t.elapsed = {0.05f};  // half way through its fade-in
+        ASSERT_EQ(t.step(), 0);
+        EXPECT_EQ(t.voxel[0], 1u);
+        EXPECT_EQ(t.density[0], 0u);
+        EXPECT_EQ(t.density[1], 1u) << "the move is counted either way";
+        EXPECT_EQ(t.fading[0], 0);
+        if (same) {
+            EXPECT_EQ(t.from_rgba[0], 0x00ffffffu) << "the same fade-in";
+            EXPECT_FLOAT_EQ(t.elapsed[0], 0.05f + kDt) << "its clock runs on";
+            EXPECT_EQ(t.sprite[0].rgba, lerp_rgba(0x00ffffffu, 0x80ffffffu, (0.05f + kDt) / 0.1f));
+        } else {
+            EXPECT_EQ(t.from_rgba[0], lerp_rgba(0x00ffffffu, 0x80ffffffu, 0.5f)) << "from where it was";
+            EXPECT_EQ(t.to_rgba[0], 0x8000ff00u);
+            EXPECT_FLOAT_EQ(t.elapsed[0], kDt) << "a new interpolation";
+        }
+        // Arrived within the interpolation time: the old one's 0.1 s, or the voxel's 0.3 s anew.
+        t.vx[0] = 0;
+        for (int i = 0; i < 18; ++i) ASSERT_EQ(t.step(), 0);
+        EXPECT_EQ(t.sprite[0].rgba, t.voxel_rgba[1]);
+        EXPECT_EQ(same, t.elapsed[0] < t.materials[0].interpolation_time);
+    }
+}
+
 // Six voxels in a row: materials of every force kind (none, linear, spiral, orbit, helix; some about
 // their region's centre, some about the voxel's) and one voxel outside the mesh. 37 particles fill whole
 // vectors and a partial one; every particle must move exactly as apply_voxel_step moves it alone.
