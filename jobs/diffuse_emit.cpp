@@ -70,8 +70,6 @@ void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& ctx) {
             A.from_size[out] = A.to_size[out] = m.size;
             A.elapsed[out] = 0, A.duration[out] = m.interpolation_time;
             A.fading[out] = 0;
-            A.sprite[out] = {P.x[out], P.y[out], P.z[out], m.size, A.from_rgba[out]};
-            A.depth_key[out] = ctx.depth_map.key(P.x[out], P.y[out], P.z[out]);
         }
         ctx.density[v] += n;
         left -= n;

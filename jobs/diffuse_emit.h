@@ -5,7 +5,8 @@
 // per-block counts, a serial prefix, then each block writes its particles at its offset, so the particles
 // and their ids are the same whatever thread runs which block. The frame's births take the places of its
 // dead first (lowest place first), then go after the live ones: where births match deaths no particle has
-// to be moved to close the gaps.
+// to be moved to close the gaps. A birth writes no sprite: born transparent, it is first drawn by the next
+// frame's update (DiffuseSimulation::sprites).
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -28,7 +29,6 @@ struct DiffuseEmitContext {
     Vec3f offset;           // the object's displacement (world = object space + offset)
     Vec3f object_velocity;  // the object's motion, given to new particles as momentum (§5.1)
     DissolveFront dissolve;
-    DepthKeyMap depth_map;  // the sprites' sort keys
     std::size_t block_size = 4096;
     std::span<std::uint32_t> counts;   // per block: wanted, then (after the prefix) granted
     std::span<std::uint32_t> offsets;  // per block

@@ -428,8 +428,13 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
             faded = change_voxel_baseline(ctx, k, old_voxel[l], voxel[l], elapsed[l], move);
         dead |= unsigned(faded) << l;
     }
-    for (unsigned b = dead & ((1u << n) - 1u); b; b &= b - 1)
-        lists.dead[lists.dead_n++] = static_cast<std::uint32_t>(i + std::size_t(__builtin_ctz(b)));
+    // The frame's sprites are the particles as this step leaves them, the dead among them transparent:
+    // their places go to births or to copies after the sprites are sorted.
+    for (unsigned b = dead & ((1u << n) - 1u); b; b &= b - 1) {
+        const std::size_t k = i + std::size_t(__builtin_ctz(b));
+        A.sprite[k].rgba &= 0x00ffffffu;
+        lists.dead[lists.dead_n++] = static_cast<std::uint32_t>(k);
+    }
 }
 
 template <int L>

@@ -6,6 +6,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -453,6 +454,50 @@ TEST(DiffusePipeline, ChurnFillsSeveralBlocksWithTheSameBytesAtOneAndTwoThreads)
         ASSERT_EQ(one[i].particle_hash, two[i].particle_hash) << "frame " << i;
         ASSERT_EQ(one[i].hash, two[i].hash) << "frame " << i;
     }
+}
+
+// A frame's sprites are final after the update, before the births and copies that close the gaps: each
+// drawn one (alpha above zero) is a particle alive at the frame's end, where it is, and every particle
+// that lived through the frame is drawn. The dead fade to a visible alpha here, so a dead one's sprite
+// would show if it were not made transparent.
+TEST(DiffusePipeline, EachFramesSpritesAreItsLivingParticlesAndNoDeadOne) {
+    SceneDesc s = churning_scene();
+    s.diffuse.defaults.fade_alpha = 0.5f;
+    SceneSimulation sim(s);
+    const DiffuseSimulation& d = *sim.diffuse();
+    using Place = std::array<float, 3>;
+    std::set<std::uint32_t> before;
+    std::size_t frames_with_copies = 0, dead_seen = 0;
+    for (int f = 0; f < 40; ++f) {
+        const std::size_t count = sim.particles().size();
+        sim.step_serial(1);
+        const ParticleSet& p = sim.particles();
+        const std::span<const DiffuseSprite> sprites = d.sprites();
+        ASSERT_EQ(sprites.size(), count) << "one sprite for each particle the update stepped";
+        ASSERT_EQ(d.depth_keys().size(), count);
+        std::map<Place, std::uint32_t> alive;  // place -> id
+        for (std::size_t i = 0; i < p.size(); ++i) alive[{p.x()[i], p.y()[i], p.z()[i]}] = p.id()[i];
+        std::set<Place> drawn_at;
+        for (const DiffuseSprite& q : sprites) {
+            const auto it = alive.find({q.x, q.y, q.z});
+            drawn_at.insert({q.x, q.y, q.z});
+            if ((q.rgba >> 24) == 0) {
+                dead_seen += it == alive.end();
+                continue;
+            }
+            ASSERT_NE(it, alive.end()) << "a visible sprite of no living particle, frame " << f;
+            ASSERT_TRUE(before.count(it->second)) << "a birth visible in its first frame, frame " << f;
+        }
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            if (!before.count(p.id()[i])) continue;
+            ASSERT_TRUE(drawn_at.count({p.x()[i], p.y()[i], p.z()[i]}))
+                << "particle " << p.id()[i] << " lived through frame " << f << " but has no sprite";
+        }
+        frames_with_copies += p.size() < count;
+        before = std::set<std::uint32_t>(p.id().begin(), p.id().end());
+    }
+    EXPECT_GT(dead_seen, 1000u) << "the dead's sprites are there, transparent";
+    EXPECT_GT(frames_with_copies, 0u) << "frames that moved particles into the gaps";
 }
 
 TEST(DiffusePipeline, SameBytesAtOneAndTwoThreadsAndReplayedFromARecording) {

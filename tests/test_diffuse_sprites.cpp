@@ -109,6 +109,20 @@ TEST_F(DiffuseSprites, OneSpriteTakesItsColourInsideAndLeavesTheRestAlone) {
     EXPECT_GT(changed_in_row(p, background, cy), int(1.5f * radius));
 }
 
+// A dead particle's sprite stays in the frame's array with alpha zero: it must leave every pixel alone.
+TEST_F(DiffuseSprites, ATransparentSpriteChangesNoPixel) {
+    const Picture background = draw({});
+    const DiffuseSprite sprites[] = {{0, 0.5f, 0, 0.6f, pack(255, 0, 0, 0)},
+                                     {0.1f, 0.4f, 0.2f, 0.3f, pack(255, 255, 255, 0)}};
+    for (const bool additive : {false, true}) {
+        const Picture p = draw(sprites, additive);
+        int changed = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) changed += p.same_at(background, x, y) ? 0 : 1;
+        EXPECT_EQ(changed, 0) << (additive ? "additive" : "over");
+    }
+}
+
 TEST_F(DiffuseSprites, SizeOnScreenFollowsDistance) {
     const Picture background = draw({});
     int cx = 0, cy = 0;

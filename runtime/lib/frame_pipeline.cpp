@@ -192,7 +192,7 @@ void FramePipeline::build_graph() {
             return ParticleVolumes{sph.density(), sph.particle_mass()};
         });
     const FrameGraph::JobId surface = surface_->add_jobs(
-        graph_, positions, [this] { return target_slot_; }, sim_end_);
+        graph_, positions, [this] { return target_slot_; }, sim_->surface_input());
     // Hand-over data of the slot: pool heights copied (the simulation moves on), counters, hash.
     graph_.serial("upload_staging",
                   [this] {
@@ -205,7 +205,7 @@ void FramePipeline::build_graph() {
                       if (config_.hash_frames) slot.hash = surface_->output_hash(target_slot_);
                       slot.particle_hash = config_.hash_frames ? particle_hash(sim_->particles()) : 0;
                   },
-                  {surface});
+                  {surface, sim_end_});
     if (graph_.job_count() > kMaxFrameJobs)
         throw std::logic_error("frame graph has more jobs than kMaxFrameJobs");
 }

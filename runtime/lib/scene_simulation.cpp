@@ -59,10 +59,14 @@ FrameGraph::JobId SceneSimulation::add_jobs(FrameGraph& graph,
                                             std::initializer_list<FrameGraph::JobId> after) {
     const auto begin = graph.serial(
         "simulate.begin", [this] { begin_frame(); }, after);
-    const FrameGraph::JobId body = diffuse_ ? add_diffuse_jobs(graph, *diffuse_, particles_, begin)
+    const DiffuseJobs diffuse =
+        diffuse_ ? add_diffuse_jobs(graph, *diffuse_, particles_, begin) : DiffuseJobs{};
+    const FrameGraph::JobId body = diffuse_ ? diffuse.last
                                    : sph_   ? add_sph_jobs(graph, *sph_, particles_, begin)
                                             : add_stream_jobs(graph, *stream_, particles_, begin);
-    return graph.serial("simulate.end", [this] { end_frame(); }, {body});
+    const FrameGraph::JobId end = graph.serial("simulate.end", [this] { end_frame(); }, {body});
+    surface_input_ = diffuse_ ? diffuse.sprites : end;
+    return end;
 }
 
 void SceneSimulation::step_serial(int frames) {

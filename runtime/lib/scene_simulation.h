@@ -30,6 +30,10 @@ class SceneSimulation {
     // (runtime/lib/simulation_jobs.h), simulate.end, which it returns. Each run of the graph simulates
     // frame next_frame() and then advances it.
     FrameGraph::JobId add_jobs(FrameGraph& graph, std::initializer_list<FrameGraph::JobId> after = {});
+    // The job of the last add_jobs after which the frame's input to its surface is final: a diffuse
+    // object's sprites after its update (DiffuseSimulation::sprites), any other scene's particles at
+    // simulate.end. A surface may run beside the rest of the frame from there.
+    FrameGraph::JobId surface_input() const { return surface_input_; }
     // Simulates `frames` frames serially (warm-up; tools).
     void step_serial(int frames);
 
@@ -56,6 +60,7 @@ class SceneSimulation {
     std::unique_ptr<SphSimulation> sph_;
     std::unique_ptr<DiffuseSimulation> diffuse_;
     std::uint64_t next_frame_ = 0, last_frame_ = 0;
+    FrameGraph::JobId surface_input_ = 0;
     FrameInputs last_inputs_;
 };
 

@@ -40,9 +40,10 @@ FrameGraph::JobId add_sph_jobs(FrameGraph& graph, SphSimulation& sph, ParticleSe
     return body;
 }
 
-FrameGraph::JobId add_diffuse_jobs(FrameGraph& graph, DiffuseSimulation& d, ParticleSet& ps,
-                                   FrameGraph::JobId after) {
-    FrameGraph::JobId last = after;
+DiffuseJobs add_diffuse_jobs(FrameGraph& graph, DiffuseSimulation& d, ParticleSet& ps,
+                             FrameGraph::JobId after) {
+    DiffuseJobs jobs{after, after};
+    FrameGraph::JobId& last = jobs.last;
     for (std::size_t p = 0; p < DiffuseSimulation::kPhaseCount; ++p) {
         const DiffusePhase& phase = DiffuseSimulation::kPhases[p];
         if (phase.parallel)
@@ -51,8 +52,9 @@ FrameGraph::JobId add_diffuse_jobs(FrameGraph& graph, DiffuseSimulation& d, Part
                 [&d, &ps, p](std::size_t b) { d.run_phase(p, b, ps); }, {last});
         else
             last = graph.serial(phase.job, [&d, &ps, p] { d.run_phase(p, 0, ps); }, {last});
+        if (p == DiffuseSimulation::kSprites) jobs.sprites = last;
     }
-    return last;
+    return jobs;
 }
 
 }  // namespace rivulet

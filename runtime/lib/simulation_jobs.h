@@ -24,7 +24,12 @@ FrameGraph::JobId add_stream_jobs(FrameGraph& graph, StreamSimulation& stream, P
 FrameGraph::JobId add_sph_jobs(FrameGraph& graph, SphSimulation& sph, ParticleSet& particles,
                                FrameGraph::JobId after);
 
-FrameGraph::JobId add_diffuse_jobs(FrameGraph& graph, DiffuseSimulation& diffuse, ParticleSet& particles,
-                                   FrameGraph::JobId after);
+// The diffuse object's phases, one job each; `sprites` is the one after which the frame's sprites are
+// final (DiffuseSimulation::kSprites).
+struct DiffuseJobs {
+    FrameGraph::JobId sprites, last;
+};
+DiffuseJobs add_diffuse_jobs(FrameGraph& graph, DiffuseSimulation& diffuse, ParticleSet& particles,
+                             FrameGraph::JobId after);
 
 }  // namespace rivulet

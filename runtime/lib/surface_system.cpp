@@ -84,8 +84,7 @@ std::unique_ptr<SurfaceSystem> make_surface_system(const SurfaceMethodSettings& 
             if (!sim || !sim->diffuse())
                 throw std::invalid_argument("sprites need the scene's diffuse simulation");
             return std::make_unique<SpritesSurface>(scene, [sim] {
-                return SpritesSurface::SpriteSource{sim->diffuse()->sprites(sim->particles()),
-                                                    sim->diffuse()->depth_keys(sim->particles())};
+                return SpritesSurface::SpriteSource{sim->diffuse()->sprites(), sim->diffuse()->depth_keys()};
             });
     }
     throw std::invalid_argument("unknown surface method");

@@ -78,12 +78,12 @@ DiffuseAttributeSpans DiffuseSimulation::attributes(std::size_t n) {
             depth_key_.span(n)};
 }
 
-std::span<const DiffuseSprite> DiffuseSimulation::sprites(const ParticleSet& particles) const {
-    return sprite_[sprite_buffer_].span(particles.size());
+std::span<const DiffuseSprite> DiffuseSimulation::sprites() const {
+    return sprite_[sprite_buffer_].span(sprites_);
 }
 
-std::span<const std::uint32_t> DiffuseSimulation::depth_keys(const ParticleSet& particles) const {
-    return depth_key_.span(particles.size());
+std::span<const std::uint32_t> DiffuseSimulation::depth_keys() const {
+    return depth_key_.span(sprites_);
 }
 
 DepthKeyMap diffuse_depth_map(const CameraDesc& camera) {
@@ -99,9 +99,10 @@ DepthKeyMap diffuse_depth_map(const CameraDesc& camera) {
     return map;
 }
 
-void DiffuseSimulation::begin_frame(ParticleSet&, std::uint64_t frame, Vec3f offset) {
+void DiffuseSimulation::begin_frame(ParticleSet& particles, std::uint64_t frame, Vec3f offset) {
     frame_ = frame;
     sprite_buffer_ = (sprite_buffer_ + 1) % kSpriteBuffers;
+    sprites_ = particles.size();
     const float dt = scene_.dt;
     prev_offset_ = first_frame_ ? offset : offset_;
     offset_ = offset;
@@ -262,7 +263,6 @@ void DiffuseSimulation::fill_block(std::size_t block, ParticleSet& particles) {
         a.voxel[to] = a.voxel[from], a.from_rgba[to] = a.from_rgba[from], a.to_rgba[to] = a.to_rgba[from];
         a.from_size[to] = a.from_size[from], a.to_size[to] = a.to_size[from];
         a.elapsed[to] = a.elapsed[from], a.duration[to] = a.duration[from], a.fading[to] = a.fading[from];
-        a.sprite[to] = a.sprite[from], a.depth_key[to] = a.depth_key[from];
     }
 }
 
@@ -278,7 +278,6 @@ DiffuseEmitContext DiffuseSimulation::emit_context(ParticleSet& particles) {
     ctx.offset = offset_;
     ctx.object_velocity = velocity_;
     ctx.dissolve = dissolve_;
-    ctx.depth_map = depth_map_;
     ctx.block_size = kEmitBlock;
     ctx.counts = emit_counts_;
     ctx.offsets = emit_offsets_;

@@ -64,13 +64,18 @@ class DiffuseSimulation {
     // After begin_frame: every phase, each block in turn, on this thread.
     void run_phases_serial(ParticleSet& particles);
 
-    // What the sprite pass draws of each particle, in particle order. Frames alternate between
-    // kSpriteBuffers arrays, so a frame's sprites stay as they are while the next frame is simulated
-    // (the frame pipeline draws frame N from them while the workers make N + 1): no copy to hand over.
+    // What the sprite pass draws of the frame: one sprite for each particle the update stepped, in the
+    // order it stepped them, final once the update's blocks are done (kSprites: the sort can run beside
+    // the rest of the frame). The dead among them are transparent; the births join the next frame's,
+    // since a particle is born transparent; so the copies and births that close the gaps need not touch
+    // the sprites. Frames alternate between kSpriteBuffers arrays, so a frame's sprites stay as they are
+    // while the next frame is simulated (the frame pipeline draws frame N from them while the workers
+    // make N + 1): no copy to hand over.
     static constexpr int kSpriteBuffers = 2;
-    std::span<const DiffuseSprite> sprites(const ParticleSet& particles) const;
-    // Each sprite's back-to-front sort key (diffuse_depth_map), made by the update and the emission.
-    std::span<const std::uint32_t> depth_keys(const ParticleSet& particles) const;
+    static constexpr Phase kSprites = kUpdate;
+    std::span<const DiffuseSprite> sprites() const;
+    // Each sprite's back-to-front sort key (diffuse_depth_map), made by the update.
+    std::span<const std::uint32_t> depth_keys() const;
     DiffuseAttributeSpans attributes(std::size_t n);
     const VoxelObject& object() const { return object_; }
     const DiffuseGrid& grid() const { return grid_; }
@@ -111,7 +116,8 @@ class DiffuseSimulation {
     AlignedArray<std::uint32_t> voxel_, from_rgba_, to_rgba_;
     AlignedArray<float> from_size_, to_size_, elapsed_, duration_;
     std::array<AlignedArray<DiffuseSprite>, kSpriteBuffers> sprite_;
-    int sprite_buffer_ = 0;  // this frame's
+    int sprite_buffer_ = 0;    // this frame's
+    std::size_t sprites_ = 0;  // this frame's: the particles it began with
     AlignedArray<std::uint32_t> depth_key_;
     DepthKeyMap depth_map_;
     AlignedArray<std::uint8_t> fading_;
