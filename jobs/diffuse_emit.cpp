@@ -69,7 +69,6 @@ void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& ctx) {
             A.from_rgba[out] = ctx.voxel_rgba[v] & 0x00ffffffu;
             A.from_size[out] = A.to_size[out] = m.size;
             A.elapsed[out] = 0, A.duration[out] = m.interpolation_time;
-            A.fading[out] = 0;
         }
         ctx.density[v] += n;
         left -= n;

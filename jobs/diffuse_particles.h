@@ -78,14 +78,14 @@ struct DiffuseSprite {
     std::uint32_t rgba = 0;
 };
 
-// A particle's attributes beside its position, velocity and id (ParticleSet): the voxel it is in, the
-// colour and size it interpolates from and to over `duration`, and whether it is fading outside.
+// A particle's attributes beside its position, velocity and id (ParticleSet): the voxel it is in (or
+// kOutsideVoxel: then it is fading, outside the active voxels), the colour and size it interpolates from
+// and to over `duration`.
 struct DiffuseAttributeSpans {
     std::span<std::uint32_t> voxel;
     std::span<std::uint32_t> from_rgba, to_rgba;
     std::span<float> from_size, to_size;
     std::span<float> elapsed, duration;
-    std::span<std::uint8_t> fading;
     std::span<DiffuseSprite> sprite;     // this frame's position, size and colour, for the sprite pass
     std::span<std::uint32_t> depth_key;  // the sprite's back-to-front sort key (DepthKeyMap)
 };

@@ -56,7 +56,7 @@ RIVULET_INLINE bool change_voxel_body(const DiffuseUpdateContext& ctx, std::size
     const DiffuseAttributeSpans& A = ctx.attributes;
     std::uint32_t from_rgba = A.from_rgba[i], to_rgba = A.to_rgba[i];
     float from_size = A.from_size[i], to_size = A.to_size[i], duration = A.duration[i];
-    bool fading = A.fading[i] != 0;
+    bool fading = old_voxel == kOutsideVoxel;
     const float t0 = duration > 0 ? std::min(1.0f, elapsed / duration) : 1.0f;
     const std::uint32_t now_rgba = lerp_rgba(from_rgba, to_rgba, t0);
     const float now_size = from_size + (to_size - from_size) * t0;
@@ -75,7 +75,7 @@ RIVULET_INLINE bool change_voxel_body(const DiffuseUpdateContext& ctx, std::size
         from_size = now_size, to_size = m.fade_size;
         elapsed = 0, duration = m.lifetime, fading = true;
     }
-    A.voxel[i] = voxel, A.fading[i] = fading;
+    A.voxel[i] = voxel;
     A.from_rgba[i] = from_rgba, A.to_rgba[i] = to_rgba;
     A.from_size[i] = from_size, A.to_size[i] = to_size, A.duration[i] = duration;
     const bool moving = fading || elapsed < duration;
@@ -173,20 +173,6 @@ struct Lanes {
         else
             out = U{c[0], c[1], c[2], c[3]};
         columns = v <= last ? out : U{} + outside;
-    }
-    // The first n of L flag bytes (0 or 1) as lane masks: one word picked apart in lanes, since
-    // widening a vector of bytes lane by lane costs a few instructions a lane.
-    RIVULET_INLINE static void flags(I& set, const std::uint8_t* p, int n) {
-        std::uint64_t raw = 0;
-        std::memcpy(&raw, p, std::size_t(n));
-        const auto lo = static_cast<std::uint32_t>(raw);
-        constexpr std::uint32_t b0 = 0xffu, b1 = 0xff00u, b2 = 0xff0000u, b3 = 0xff000000u;
-        if constexpr (L == 8) {
-            const auto hi = static_cast<std::uint32_t>(raw >> 32);
-            set = (U{lo, lo, lo, lo, hi, hi, hi, hi} & U{b0, b1, b2, b3, b0, b1, b2, b3}) != U{};
-        } else {
-            set = ((U{} + lo) & U{b0, b1, b2, b3}) != U{};
-        }
     }
     // Bit l set where lane l of the comparison result is true.
     RIVULET_INLINE static unsigned bits(const I& m) { return lane_bits(m); }
@@ -372,8 +358,7 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
     // own, and its clock need not run. The lanes that changed voxel are redone one by one below, after
     // their new targets are written: writing those first would make these vector loads wait for the
     // lanes' scalar stores.
-    I fading;
-    Ln::flags(fading, &A.fading[i], n);
+    const I fading = old_voxel == (U{} + kOutsideVoxel);
     F elapsed, duration, from_size, to_size;
     U from_rgba, to_rgba;
     Ln::load(elapsed, &A.elapsed[i], n), Ln::load(duration, &A.duration[i], n);

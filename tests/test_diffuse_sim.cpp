@@ -91,7 +91,6 @@ struct TwoVoxels {
     std::vector<float> from_size, to_size, elapsed, duration;
     std::vector<DiffuseSprite> sprite{1};
     std::vector<std::uint32_t> depth_key{0};
-    std::vector<std::uint8_t> fading;
     std::vector<std::uint16_t> material{0, kNoMaterial};
     std::vector<std::uint32_t> voxel_rgba{0x80ffffffu, 0};
     std::vector<std::uint16_t> column{0, 1};
@@ -102,7 +101,7 @@ struct TwoVoxels {
     explicit TwoVoxels(float x0, float vx0) {
         x = {x0}, y = {0.5f}, z = {0.5f}, vx = {vx0}, vy = {0}, vz = {0}, id = {0};
         voxel = {0}, from_rgba = to_rgba = {0x80ffffffu}, dead = {0};
-        from_size = to_size = {0.05f}, elapsed = {0}, duration = {0.1f}, fading = {0};
+        from_size = to_size = {0.05f}, elapsed = {0}, duration = {0.1f};
         VoxelMaterial& m = materials[0];
         m.lifetime = 0.5f, m.fade_rgba = 0, m.fade_size = 0.2f, m.drag = 0;
         m.step = make_voxel_step({}, 0, kDt);
@@ -110,8 +109,7 @@ struct TwoVoxels {
     DiffuseUpdateContext context() {
         DiffuseUpdateContext c;
         c.particles = {x, y, z, vx, vy, vz, id};
-        c.attributes = {voxel,   from_rgba, to_rgba, from_size, to_size,
-                        elapsed, duration,  fading,  sprite,    depth_key};
+        c.attributes = {voxel, from_rgba, to_rgba, from_size, to_size, elapsed, duration, sprite, depth_key};
         c.grid = {{0, 0, 0}, 1, 2, 1, 1};
         c.material = material, c.voxel_rgba = voxel_rgba, c.materials = materials;
         c.column = column, c.density = density;
@@ -132,8 +130,7 @@ struct TwoVoxels {
 TEST(DiffuseUpdate, LeavingFadesToTheLastVoxelsFadeAndDiesAfterItsLifetime) {
     TwoVoxels t(0.95f, 6.0f);  // into voxel 1 on the first step
     EXPECT_EQ(t.step(), 0);
-    EXPECT_EQ(t.voxel[0], kOutsideVoxel);
-    EXPECT_EQ(t.fading[0], 1);
+    EXPECT_EQ(t.voxel[0], kOutsideVoxel) << "fading, outside the active voxels";
     EXPECT_EQ(t.density[0], 0u) << "the voxel lost its particle";
     EXPECT_EQ(t.to_rgba[0] >> 24, 0u) << "fades to the fade alpha";
     EXPECT_FLOAT_EQ(t.to_size[0], 0.2f);
@@ -149,13 +146,12 @@ TEST(DiffuseUpdate, LeavingFadesToTheLastVoxelsFadeAndDiesAfterItsLifetime) {
 TEST(DiffuseUpdate, ReenteringStopsTheFadeAndResetsTheLifetime) {
     TwoVoxels t(0.95f, 6.0f);
     t.step();
-    ASSERT_EQ(t.fading[0], 1);
+    ASSERT_EQ(t.voxel[0], kOutsideVoxel);
     t.vx[0] = 0;
     for (int i = 0; i < 20; ++i) ASSERT_EQ(t.step(), 0);  // most of the 30-step fade
     t.vx[0] = -6.0f;                                      // back into voxel 0
     t.step();
-    EXPECT_EQ(t.voxel[0], 0u);
-    EXPECT_EQ(t.fading[0], 0);
+    EXPECT_EQ(t.voxel[0], 0u) << "no longer fading";
     EXPECT_EQ(t.density[0], 1u);
     EXPECT_EQ(t.to_rgba[0], 0x80ffffffu);
     t.vx[0] = 0;
@@ -175,7 +171,6 @@ TEST(DiffuseUpdate, AVoxelOfTheSameLookKeepsTheInterpolationAndAnotherStartsANew
         EXPECT_EQ(t.voxel[0], 1u);
         EXPECT_EQ(t.density[0], 0u);
         EXPECT_EQ(t.density[1], 1u) << "the move is counted either way";
-        EXPECT_EQ(t.fading[0], 0);
         if (same) {
             EXPECT_EQ(t.from_rgba[0], 0x00ffffffu) << "the same fade-in";
             EXPECT_FLOAT_EQ(t.elapsed[0], 0.05f + kDt) << "its clock runs on";
@@ -217,7 +212,6 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
     std::vector<float> x, y, z, vx, vy, vz, from_size, to_size, elapsed, duration;
     std::vector<std::uint32_t> id, voxel, from_rgba, to_rgba, dead(64), dead_count(1), moves(128),
         move_count(1), depth_key(kParticles);
-    std::vector<std::uint8_t> fading;
     for (std::size_t i = 0; i < kParticles; ++i) {
         const float u = float(i % 7) / 7.0f, w = float(i % 5) / 5.0f;
         const std::uint32_t cell = std::uint32_t(i % 6);
@@ -227,7 +221,6 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
         id.push_back(std::uint32_t(i)), voxel.push_back(cell == 5 ? kOutsideVoxel : cell);
         from_rgba.push_back(0xff808080u), to_rgba.push_back(0xff808080u);
         from_size.push_back(0.05f), to_size.push_back(0.05f), elapsed.push_back(1), duration.push_back(0.1f);
-        fading.push_back(cell == 5);
     }
     std::vector<DiffuseSprite> sprite(kParticles);
     const Vec3f accel{0.0f, -0.8f, 0.1f}, offset{0.01f, -0.02f, 0.0f};
@@ -243,8 +236,7 @@ TEST(DiffuseUpdate, EveryLaneStepsAsTheScalarStepOfItsOwnMaterial) {
     c.depth_map = {{-1.0f, 2.0f, 3.0f}, normalize(Vec3f{0.6f, -0.3f, -0.5f}), 0.5f, 5.0f};
     const std::vector<float> x0 = x, y0 = y, z0 = z, vx0 = vx, vy0 = vy, vz0 = vz;
     c.particles = {x, y, z, vx, vy, vz, id};
-    c.attributes = {voxel,   from_rgba, to_rgba, from_size, to_size,
-                    elapsed, duration,  fading,  sprite,    depth_key};
+    c.attributes = {voxel, from_rgba, to_rgba, from_size, to_size, elapsed, duration, sprite, depth_key};
     diffuse_update_block(0, c);
     for (std::size_t i = 0; i < kParticles; ++i) {
         const std::uint32_t cell = std::uint32_t(i % 6);

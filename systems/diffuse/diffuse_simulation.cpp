@@ -57,7 +57,6 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
     for (AlignedArray<DiffuseSprite>& s : sprite_) s.reserve(cap);
     depth_key_.reserve(cap);
     depth_map_ = diffuse_depth_map(scene_.camera);
-    fading_.reserve(cap);
     const std::size_t blocks = diffuse_update_blocks(cap, kUpdateBlock);
     dead_.assign(blocks * kUpdateBlock, 0);
     dead_count_.assign(blocks, 0);
@@ -72,9 +71,8 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
 DiffuseSimulation::~DiffuseSimulation() = default;
 
 DiffuseAttributeSpans DiffuseSimulation::attributes(std::size_t n) {
-    return {voxel_.span(n),     from_rgba_.span(n), to_rgba_.span(n),
-            from_size_.span(n), to_size_.span(n),   elapsed_.span(n),
-            duration_.span(n),  fading_.span(n),    sprite_[sprite_buffer_].span(n),
+    return {voxel_.span(n),    from_rgba_.span(n), to_rgba_.span(n),  from_size_.span(n),
+            to_size_.span(n),  elapsed_.span(n),   duration_.span(n), sprite_[sprite_buffer_].span(n),
             depth_key_.span(n)};
 }
 
@@ -262,7 +260,7 @@ void DiffuseSimulation::fill_block(std::size_t block, ParticleSet& particles) {
         p.vx[to] = p.vx[from], p.vy[to] = p.vy[from], p.vz[to] = p.vz[from], p.id[to] = p.id[from];
         a.voxel[to] = a.voxel[from], a.from_rgba[to] = a.from_rgba[from], a.to_rgba[to] = a.to_rgba[from];
         a.from_size[to] = a.from_size[from], a.to_size[to] = a.to_size[from];
-        a.elapsed[to] = a.elapsed[from], a.duration[to] = a.duration[from], a.fading[to] = a.fading[from];
+        a.elapsed[to] = a.elapsed[from], a.duration[to] = a.duration[from];
     }
 }
 

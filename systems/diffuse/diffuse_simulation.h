@@ -120,7 +120,6 @@ class DiffuseSimulation {
     std::size_t sprites_ = 0;  // this frame's: the particles it began with
     AlignedArray<std::uint32_t> depth_key_;
     DepthKeyMap depth_map_;
-    AlignedArray<std::uint8_t> fading_;
     std::vector<std::uint32_t> dead_, dead_count_, dead_all_;
     std::vector<std::uint32_t> fills_;  // (from, to) pairs: the live particle that fills each dead place
     std::vector<std::uint32_t> moves_, move_count_;  // voxel changes per update block
