@@ -9,7 +9,9 @@ namespace {
 
 std::uint32_t wanted(std::uint32_t v, const DiffuseEmitContext& ctx) {
     if (ctx.column[v] == ctx.materials.size()) return 0;  // no particle may appear inside a solid (§5.2)
-    if (ctx.dissolve.behind(ctx.grid.voxel_centre(v), float(mix64(v) >> 40) * (1.0f / 16777216.0f))) return 0;
+    if (ctx.dissolve.active() &&
+        ctx.dissolve.behind(ctx.grid.voxel_centre(v), float(mix64(v) >> 40) * (1.0f / 16777216.0f)))
+        return 0;
     const VoxelMaterial& m = ctx.materials[ctx.material[v]];
     const std::uint32_t have = ctx.density[v];
     return have >= m.max_density ? 0 : std::min<std::uint32_t>(m.max_density - have, m.emit_per_frame);
