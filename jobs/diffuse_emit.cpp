@@ -65,12 +65,9 @@ void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& ctx) {
             P.vy[out] = ctx.object_velocity.y + (2 * u(4) - 1) * m.jitter;
             P.vz[out] = ctx.object_velocity.z + (2 * u(5) - 1) * m.jitter;
             P.id[out] = id;
-            // Born transparent, the particle fades in over the voxel's interpolation time.
+            // Born transparent, the particle fades in over the voxel's interpolation time: the next
+            // update sets that state from the voxel (DiffuseUpdateContext::born).
             A.voxel[out] = v;
-            A.to_rgba[out] = ctx.voxel_rgba[v];
-            A.from_rgba[out] = ctx.voxel_rgba[v] & 0x00ffffffu;
-            A.from_size[out] = A.to_size[out] = m.size;
-            A.elapsed[out] = 0, A.duration[out] = m.interpolation_time;
         }
         ctx.density[v] += n;
         left -= n;

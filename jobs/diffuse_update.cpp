@@ -110,6 +110,7 @@ struct BlockLists {
     std::uint32_t dead_n;
     std::uint32_t* moves;
     std::uint32_t move_n;
+    const std::uint32_t *born, *born_end;  // the block's births not yet reached, ascending
 };
 
 // L particles as vectors: F floats, I signed and U unsigned 32-bit lanes.
@@ -364,6 +365,24 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
     Ln::load(elapsed, &A.elapsed[i], n), Ln::load(duration, &A.duration[i], n);
     Ln::load(from_size, &A.from_size[i], n), Ln::load(to_size, &A.to_size[i], n);
     Ln::load(from_rgba, &A.from_rgba[i], n), Ln::load(to_rgba, &A.to_rgba[i], n);
+    // The births among the lanes (DiffuseUpdateContext::born) get their state here, in registers, stored
+    // once for the lanes: a store per field and birth before these loads would make them wait.
+    unsigned born = 0;
+    for (; lists.born != lists.born_end && *lists.born < i + std::size_t(n); ++lists.born)
+        born |= 1u << (*lists.born - i);
+    for (unsigned b = born; b; b &= b - 1) {
+        const int l = __builtin_ctz(b);
+        const std::uint32_t v = old_voxel[l];
+        const VoxelMaterial& m = ctx.materials[ctx.material[v]];
+        to_rgba[l] = ctx.voxel_rgba[v], from_rgba[l] = ctx.voxel_rgba[v] & 0x00ffffffu;
+        from_size[l] = to_size[l] = m.size;
+        elapsed[l] = 0, duration[l] = m.interpolation_time;
+    }
+    if (born) {
+        Ln::store(&A.from_rgba[i], from_rgba, n), Ln::store(&A.to_rgba[i], to_rgba, n);
+        Ln::store(&A.from_size[i], from_size, n), Ln::store(&A.to_size[i], to_size, n);
+        Ln::store(&A.duration[i], duration, n);
+    }
     const I moving = fading | (elapsed < duration);
     const F later = elapsed + ctx.dt;
     const F q = later / duration;
@@ -440,8 +459,16 @@ RIVULET_AVX2 void update_range_avx2(const DiffuseUpdateContext& ctx, std::size_t
 void diffuse_update_block(std::size_t block, const DiffuseUpdateContext& ctx) {
     const std::size_t begin = block * ctx.block_size;
     const std::size_t end = std::min(ctx.particles.size(), begin + ctx.block_size);
-    BlockLists lists{ctx.dead.data() + block * ctx.block_size, 0,
-                     ctx.moves.data() + 2 * block * ctx.block_size, 0};
+    const std::uint32_t* born = std::lower_bound(ctx.born.data(), ctx.born.data() + ctx.born.size(),
+                                                 static_cast<std::uint32_t>(begin));
+    const std::uint32_t* born_end =
+        std::lower_bound(born, ctx.born.data() + ctx.born.size(), static_cast<std::uint32_t>(end));
+    BlockLists lists{ctx.dead.data() + block * ctx.block_size,
+                     0,
+                     ctx.moves.data() + 2 * block * ctx.block_size,
+                     0,
+                     born,
+                     born_end};
     if (cpu_has_avx2())
         update_range_avx2(ctx, begin, end, lists);
     else

@@ -59,6 +59,11 @@ struct DiffuseUpdateContext {
     // atomic adds during it: a count's cache line would travel between the cores on every change.
     std::span<std::uint32_t> moves;
     std::span<std::uint32_t> move_count;  // per block
+    // The particles born since the last step, ascending: the emission leaves their interpolation state to
+    // the update, which sets it from their voxel as it steps them (born transparent, fading in to the
+    // voxel's colour and size over its interpolation time). Their cache lines are then on the way in
+    // anyway, where the emission would have fetched them only to write.
+    std::span<const std::uint32_t> born;
 };
 
 // A voxel's column of the step table: its material while it has one and no collider overlaps it, else

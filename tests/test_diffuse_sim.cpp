@@ -159,6 +159,25 @@ TEST(DiffuseUpdate, ReenteringStopsTheFadeAndResetsTheLifetime) {
     EXPECT_EQ(t.sprite[0].rgba, 0x80ffffffu);
 }
 
+// A birth's interpolation state is the update's to set: whatever the emission left in its place (here a
+// dead particle's fade), a particle listed as born starts from transparent towards its voxel's colour.
+TEST(DiffuseUpdate, ABirthStartsTransparentTowardsItsVoxelsColour) {
+    TwoVoxels t(0.5f, 0.0f);
+    t.from_rgba = {0x12345678u}, t.to_rgba = {0x00abcdefu}, t.from_size = {0.7f}, t.to_size = {0.9f};
+    t.elapsed = {3}, t.duration = {0.25f};
+    const std::vector<std::uint32_t> born{0};
+    DiffuseUpdateContext c = t.context();
+    c.born = born;
+    diffuse_update_block(0, c);
+    const VoxelMaterial& m = t.materials[0];
+    EXPECT_EQ(t.to_rgba[0], 0x80ffffffu);
+    EXPECT_EQ(t.from_rgba[0], 0x00ffffffu);
+    EXPECT_FLOAT_EQ(t.to_size[0], m.size);
+    EXPECT_FLOAT_EQ(t.duration[0], m.interpolation_time);
+    EXPECT_FLOAT_EQ(t.elapsed[0], kDt) << "its first step";
+    EXPECT_EQ(t.sprite[0].rgba, lerp_rgba(0x00ffffffu, 0x80ffffffu, kDt / m.interpolation_time));
+}
+
 // Two active voxels of one material: crossing into the one of the same colour leaves the particle's
 // fade-in running; crossing into one of another colour starts a new interpolation from where it was.
 TEST(DiffuseUpdate, AVoxelOfTheSameLookKeepsTheInterpolationAndAnotherStartsANewOne) {

@@ -63,6 +63,7 @@ DiffuseSimulation::DiffuseSimulation(const SceneDesc& scene, ParticleSet& partic
     moves_.assign(2 * blocks * kUpdateBlock, 0);
     move_count_.assign(blocks, 0);
     dead_all_.reserve(cap);
+    born_.reserve(cap);
     fills_.reserve(2 * cap);
     emit_counts_.assign(diffuse_emit_blocks(object_.inside.size(), kEmitBlock), 0);
     emit_offsets_.assign(emit_counts_.size(), 0);
@@ -194,6 +195,7 @@ DiffuseUpdateContext DiffuseSimulation::update_context(ParticleSet& particles) {
     ctx.dead_count = dead_count_;
     ctx.moves = moves_;
     ctx.move_count = move_count_;
+    ctx.born = born_;
     return ctx;
 }
 
@@ -308,6 +310,11 @@ void DiffuseSimulation::emit_offsets(ParticleSet& particles) {
                                fills_.push_back(static_cast<std::uint32_t>(to));
                            });
     particles.resize(emit_first_ + (births - births_in_place_));
+    // The next update sets the births' interpolation state (DiffuseUpdateContext::born): the dead's
+    // places they take, then those after the live particles, ascending.
+    born_.assign(dead_all_.begin(), dead_all_.begin() + std::ptrdiff_t(births_in_place_));
+    for (std::size_t k = emit_first_; k < particles.size(); ++k)
+        born_.push_back(static_cast<std::uint32_t>(k));
     birth_first_id_ = next_id_;
     next_id_ += static_cast<std::uint32_t>(births);
 }

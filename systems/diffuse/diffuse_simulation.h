@@ -9,7 +9,8 @@
 //   emit_offsets  serial: where each block's new particles go (the dead's places first); which live
 //                 particle from the end fills each place no birth takes
 //   compact_fill  parallel over fill blocks: those particles copied into the places
-//   emit          parallel over emit blocks: the new particles
+//   emit          parallel over emit blocks: the new particles (the next update sets their
+//                 interpolation state from their voxel: DiffuseUpdateContext::born)
 // The frame graph runs each phase as one job named by kPhases (runtime/lib/simulation_jobs.cpp), a serial
 // step as run_phases_serial. Everything is sized at construction; a frame allocates nothing.
 #include <array>
@@ -121,6 +122,7 @@ class DiffuseSimulation {
     AlignedArray<std::uint32_t> depth_key_;
     DepthKeyMap depth_map_;
     std::vector<std::uint32_t> dead_, dead_count_, dead_all_;
+    std::vector<std::uint32_t> born_;   // the last frame's births, ascending, for the update to finish
     std::vector<std::uint32_t> fills_;  // (from, to) pairs: the live particle that fills each dead place
     std::vector<std::uint32_t> moves_, move_count_;  // voxel changes per update block
     std::vector<std::uint32_t> emit_counts_, emit_offsets_;
