@@ -593,6 +593,20 @@ TEST(DiffuseScenes, SceneFilesRoundTripAndBadValuesAreNamed) {
               std::string::npos);
     EXPECT_NE(error(R"({"base": "ghost", "diffuse": {"colliders": [{"shape": "cone"}]}})").find("shape"),
               std::string::npos);
+    // -1 is how a file says "the default" (and how scene_to_json writes an unset attribute); any other
+    // negative value, or a colour with only some components unset, is a mistake and not the default.
+    EXPECT_EQ(
+        error(R"({"base": "ghost", "diffuse": {"defaults": {"max_density": -1, "color": [-1, -1, -1]}}})"),
+        "no error");
+    EXPECT_NE(error(R"({"base": "ghost", "diffuse": {"defaults": {"max_density": -3}}})")
+                  .find("f.json.diffuse.defaults.max_density: must not be negative"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"base": "ghost", "diffuse": {"regions": [{"attributes": {"lifetime": -0.5}}]}})")
+                  .find("regions[0].attributes.lifetime: must not be negative"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"base": "ghost", "diffuse": {"defaults": {"fade_color": [-1, 0.5, 0]}}})")
+                  .find("defaults.fade_color: colour components must be in [0, 1]"),
+              std::string::npos);
 }
 
 TEST(DiffuseScenes, AnOpenMeshIsAClearError) {
