@@ -1,26 +1,34 @@
 #include "jobs/sph_grid.h"
 
+#include <algorithm>
+
 namespace rivulet {
 
-void sph_grid_count_chunk(const SphGrid& grid, std::span<const float> x, std::span<const float> y,
-                          std::span<const float> z, std::span<std::uint32_t> keys,
-                          std::span<std::uint32_t> counts) {
-    for (auto& c : counts) c = 0;
+SphKeyRange sph_grid_count_chunk(const SphGrid& grid, std::span<const float> x, std::span<const float> y,
+                                 std::span<const float> z, std::span<std::uint32_t> keys,
+                                 std::span<std::uint32_t> counts) {
+    if (x.empty()) return {};
+    std::uint32_t lo = grid.cells(), hi = 0;
     for (std::size_t i = 0; i < x.size(); ++i) {
         const std::uint32_t k = grid.key(x[i], y[i], z[i]);
         keys[i] = k;
-        ++counts[k];
+        lo = std::min(lo, k), hi = std::max(hi, k);
     }
+    std::fill(counts.begin() + lo, counts.begin() + hi + 1, 0u);
+    for (std::size_t i = 0; i < x.size(); ++i) ++counts[keys[i]];
+    return {lo, hi + 1};
 }
 
-void sph_grid_cursors(std::uint32_t cells, std::uint32_t chunks, std::uint32_t cell_begin,
+void sph_grid_cursors(std::uint32_t cells, std::span<const SphKeyRange> ranges, std::uint32_t cell_begin,
                       std::uint32_t cell_end, std::span<const std::uint32_t> counts,
                       std::span<std::uint32_t> cursors, std::span<std::uint32_t> totals) {
     for (std::uint32_t c = cell_begin; c < cell_end; ++c) totals[c] = 0;
-    // Chunk-major rows, read contiguously.
-    for (std::uint32_t k = 0; k < chunks; ++k) {
-        const std::size_t row = std::size_t(k) * cells;
-        for (std::uint32_t c = cell_begin; c < cell_end; ++c) {
+    // Chunk-major rows, read contiguously, each only where its chunk has particles.
+    for (std::size_t k = 0; k < ranges.size(); ++k) {
+        const std::size_t row = k * cells;
+        const std::uint32_t lo = std::max(cell_begin, ranges[k].begin),
+                            hi = std::min(cell_end, ranges[k].end);
+        for (std::uint32_t c = lo; c < hi; ++c) {
             cursors[row + c] = totals[c];
             totals[c] += counts[row + c];
         }

@@ -48,18 +48,25 @@ struct SphSortedOut {
     std::span<std::uint32_t> source = {};  // optional: index the particle had before the sort
 };
 
-// Pass 1, per chunk: keys[i] = cell of particle i of the chunk; counts[c] = particles of the chunk in cell c.
-void sph_grid_count_chunk(const SphGrid& grid, std::span<const float> x, std::span<const float> y,
-                          std::span<const float> z, std::span<std::uint32_t> keys,
-                          std::span<std::uint32_t> counts);
+// The cells [begin, end) a chunk's particles lie in (empty: begin == end).
+struct SphKeyRange {
+    std::uint32_t begin = 0, end = 0;
+};
+
+// Pass 1, per chunk: keys[i] = cell of particle i of the chunk; counts[c] = particles of the chunk in cell
+// c for c in the returned range, the only part of `counts` written. Particles sorted by cell one substep
+// earlier keep a chunk within a few thousand cells, where the whole grid has chunks x cells counters.
+SphKeyRange sph_grid_count_chunk(const SphGrid& grid, std::span<const float> x, std::span<const float> y,
+                                 std::span<const float> z, std::span<std::uint32_t> keys,
+                                 std::span<std::uint32_t> counts);
 
 // Between the passes, in two steps so the work over chunks x cells runs in parallel:
 // 1. per range of cells [cell_begin, cell_end) (any split of the cells): from the per-chunk counts
-//    (chunk-major: counts[k * cells + c]), each chunk's write cursor relative to the cell's start
-//    (same layout) and each cell's total;
+//    (chunk-major: counts[k * cells + c], read only inside chunk k's range) each chunk's write cursor
+//    relative to the cell's start (same layout, written only inside that range) and each cell's total;
 // 2. once: totals -> cell_start (cells + 1, an exclusive prefix sum). Returns the particle count.
 // Cell c then holds chunk 0's particles of c, then chunk 1's, ...: stable, whatever the split.
-void sph_grid_cursors(std::uint32_t cells, std::uint32_t chunks, std::uint32_t cell_begin,
+void sph_grid_cursors(std::uint32_t cells, std::span<const SphKeyRange> ranges, std::uint32_t cell_begin,
                       std::uint32_t cell_end, std::span<const std::uint32_t> counts,
                       std::span<std::uint32_t> cursors, std::span<std::uint32_t> totals);
 std::uint32_t sph_grid_offsets(std::span<const std::uint32_t> totals, std::span<std::uint32_t> cell_start);

@@ -291,6 +291,7 @@ SphSimulation::SphSimulation(const SphDesc& desc, std::size_t max_particles, std
     keys_.reserve(n);
     counts_.reserve(chunks_ * cells);
     cursors_.reserve(chunks_ * cells);
+    key_ranges_.assign(chunks_, SphKeyRange{});
     cell_start_.reserve(cells + 1);
     cell_total_.reserve(cells);
     for (auto* a : {&sx_, &sy_, &sz_, &svx_, &svy_, &svz_, &rho_, &p_, &ax_, &ay_, &az_}) a->reserve(n);
@@ -532,17 +533,17 @@ void SphSimulation::run_phase(std::size_t phase, std::size_t chunk, ParticleSet&
         }
         case kGridCount: {
             const auto x = ps.x(), y = ps.y(), z = ps.z();
-            sph_grid_count_chunk(grid_, x.subspan(b, e - b), y.subspan(b, e - b), z.subspan(b, e - b),
-                                 keys_.span(n_).subspan(b, e - b),
-                                 counts_.span(chunks_ * cells).subspan(chunk * cells, cells));
+            key_ranges_[chunk] =
+                sph_grid_count_chunk(grid_, x.subspan(b, e - b), y.subspan(b, e - b), z.subspan(b, e - b),
+                                     keys_.span(n_).subspan(b, e - b),
+                                     counts_.span(chunks_ * cells).subspan(chunk * cells, cells));
             break;
         }
         case kGridCursors: {
             const auto first = static_cast<std::uint32_t>(std::size_t(chunk) * cells / chunks_);
             const auto last = static_cast<std::uint32_t>(std::size_t(chunk + 1) * cells / chunks_);
-            sph_grid_cursors(cells, static_cast<std::uint32_t>(chunks_), first, last,
-                             counts_.span(chunks_ * cells), cursors_.span(chunks_ * cells),
-                             cell_total_.span(cells));
+            sph_grid_cursors(cells, key_ranges_, first, last, counts_.span(chunks_ * cells),
+                             cursors_.span(chunks_ * cells), cell_total_.span(cells));
             break;
         }
         case kGridOffsets:

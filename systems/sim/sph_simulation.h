@@ -185,7 +185,8 @@ class SphSimulation {
 
     // Buffers.
     AlignedArray<std::uint32_t> keys_;                    // per particle (store order)
-    AlignedArray<std::uint32_t> counts_, cursors_;        // chunks x cells
+    AlignedArray<std::uint32_t> counts_, cursors_;        // chunks x cells, each chunk's used in key_ranges_
+    std::vector<SphKeyRange> key_ranges_;                 // chunks
     AlignedArray<std::uint32_t> cell_start_;              // cells + 1
     AlignedArray<std::uint32_t> cell_total_;              // cells
     AlignedArray<float> sx_, sy_, sz_, svx_, svy_, svz_;  // sorted copies
