@@ -79,6 +79,22 @@ TEST(SceneJson, SphSceneChoosesItsPressureSolver) {
     EXPECT_EQ(s.sph.spacing, dambreak.sph.spacing);
 }
 
+TEST(SceneJson, AShakeFasterThanTheSubstepsCanFollowIsRefused) {
+    // The dam break follows its tank up to 132 m/s (sph_max_tank_speed): 0.3 m at 50 Hz moves it 36 m/s
+    // over a frame, 3 m at 50 Hz 360 m/s.
+    EXPECT_EQ(
+        error_of(R"({"base": "dambreak", "container_motion": {"amplitude": [0.3, 0, 0], "frequency": 50}})"),
+        "no error");
+    EXPECT_NE(
+        error_of(R"({"base": "dambreak", "container_motion": {"amplitude": [3, 0, 0], "frequency": 50}})")
+            .find("container_motion moves the tank at up to"),
+        std::string::npos);
+    EXPECT_NE(
+        error_of(R"({"base": "dambreak", "container_motion": {"amplitude": [1e9, 0, 0], "frequency": 1}})")
+            .find("raise sph.max_substeps"),
+        std::string::npos);
+}
+
 TEST(SceneJson, ContainerMotionScriptsASineOffset) {
     SceneDesc s = make_builtin_scene("faucet");
     s.dt = 0.01f;

@@ -396,6 +396,28 @@ TEST(SphSim, MovingTheContainerPushesTheFluid) {
     }
 }
 
+// A tank moved faster than max_substeps substeps a frame can follow (here by an input track's jump) is a
+// clear error at that frame, not minutes of solves at their iteration limit; up to the limit it moves.
+TEST(SphSim, ATankMovedFasterThanTheSubstepsCanFollowIsAnError) {
+    const SphDesc desc = make_dambreak(1000);
+    const std::size_t n = sph_seed_count(desc);
+    SphSimulation sim(desc, n);
+    ParticleSet ps(n);
+    sim.seed(ps);
+    const float most = static_cast<float>(sph_max_tank_speed(desc));
+    EXPECT_NEAR(most, desc.step_cfl() * desc.spacing * float(desc.max_substeps) / desc.dt, 1e-3f * most);
+    sim.set_container_offset({0.9f * most * desc.dt, 0, 0});
+    sim.step_serial(ps, 0);
+    sim.set_container_offset({0.9f * most * desc.dt + 1.2f * most * desc.dt, 0, 0});
+    try {
+        sim.step_serial(ps, 1);
+        ADD_FAILURE() << "no error";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("the tank moves at"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("in frame 1"), std::string::npos) << e.what();
+    }
+}
+
 // DFSPH picks each substep's length as it starts: from the fastest particle then, not the frame's start,
 // so every substep holds the CFL condition (with its own gravity) and the frame still ends on time. In a
 // dam break's surge the flow speeds up within a frame, so a frame's substeps differ.

@@ -1,5 +1,6 @@
 #include "systems/scenes/scene_validation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -85,9 +86,23 @@ void validate_scene(const SceneDesc& s, const std::string& origin) {
     for (std::size_t i = 0; i < faces.size(); ++i)
         check(!faces[i].empty(), "look.environment[" + std::to_string(i) + "] is an empty path");
     if (s.simulation == SimulationKind::kDiffuse) validate_diffuse_desc(s.diffuse, where);
-    if (s.simulation == SimulationKind::kSph)
-        if (const std::string problem = sph_desc_problem(sph_desc_of(s), s.max_particles); !problem.empty())
+    if (s.simulation == SimulationKind::kSph) {
+        const SphDesc sph = sph_desc_of(s);
+        if (const std::string problem = sph_desc_problem(sph, s.max_particles); !problem.empty())
             check(false, problem);
+        // The scripted shake's largest move over a frame, |A| min(2, 2 pi f dt), against the tank's limit.
+        const ContainerMotion& m = s.container_motion;
+        const double move =
+            m.frequency > 0 ? double(length(m.amplitude)) *
+                                  std::min(2.0, 2.0 * std::numbers::pi * double(m.frequency) * double(s.dt))
+                            : 0.0;
+        check(move / double(s.dt) <= sph_max_tank_speed(sph),
+              "container_motion moves the tank at up to " + number_text(move / double(s.dt)) +
+                  " m/s over a frame, more than max_substeps substeps a frame can follow (" +
+                  number_text(sph_max_tank_speed(sph)) +
+                  " m/s): lower its amplitude or frequency, or raise "
+                  "sph.max_substeps");
+    }
 }
 
 }  // namespace rivulet

@@ -167,6 +167,10 @@ std::uint32_t cells_along(float extent, float h) {
 
 }  // namespace
 
+double sph_max_tank_speed(const SphDesc& desc) {
+    return double(desc.step_cfl()) * double(desc.spacing) * double(desc.max_substeps) / double(desc.dt);
+}
+
 std::string sph_desc_problem(const SphDesc& d, std::size_t max_particles) {
     using io::number_text;
     constexpr double kHuge = 1e30;  // no upper bound but finiteness
@@ -362,6 +366,12 @@ void SphSimulation::begin_frame(ParticleSet& ps, std::uint64_t frame) {
     for (std::size_t i = 0; i < n_; ++i) v2 = std::max(v2, vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]);
     const Vec3f wall_v = (offset_end_ - offset_begin_) * static_cast<float>(1.0 / frame_dt);
     wall_speed_ = length(wall_v);
+    if (const double most = sph_max_tank_speed(desc_); !(double(wall_speed_) <= most))
+        throw std::invalid_argument(
+            "the tank moves at " + io::number_text(wall_speed_) + " m/s in frame " + std::to_string(frame) +
+            ", more than max_substeps substeps a frame can follow (" + io::number_text(most) +
+            " m/s): slow the container_motion or the input track, or raise "
+            "sph.max_substeps");
     v2_start_ = v2;
     substep_ = 0;
     frame_left_ = frame_dt;

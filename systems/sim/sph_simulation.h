@@ -47,6 +47,12 @@ inline constexpr std::uint32_t kMaxGridCellsPerAxis = 4096;
 inline constexpr std::uint64_t kMaxGridCells = std::uint64_t{1} << 28;
 inline constexpr int kMaxSphSubsteps = 4096;
 
+// The fastest the tank may move over a frame (scripted or from an input track): as far as the step's CFL
+// number lets the fluid go in max_substeps substeps. Faster, each substep asks more than that of the walls,
+// every solve runs to max_iterations, and a frame takes minutes: the dam break (limit 132 m/s) ran at 0.8
+// frames/s pushed at 100 m/s and over a minute a frame at 150.
+double sph_max_tank_speed(const SphDesc& desc);
+
 // What is wrong with `desc` for a simulation of up to `max_particles` ("" when nothing): a value out of
 // range (named by its scene-file key), a grid over its limits, an initial fluid that is empty or holds
 // more than max_particles (counted, never walked), or buffers over kMaxSimulationBytes. Takes a few
