@@ -59,6 +59,9 @@ TEST(SceneJson, MistakesNameTheKey) {
     EXPECT_NE(error_of(R"({"gravity": [0, -9.8]})").find("test.json.gravity: expected [x, y, z]"),
               std::string::npos);
     EXPECT_NE(error_of(R"({"dt": 1e300})").find("test.json.dt: expected a finite number"), std::string::npos);
+    EXPECT_NE(
+        error_of(R"({"gravity": [0, -1e9, 0]})").find("gravity must be finite, each component within 1e4"),
+        std::string::npos);
     EXPECT_NE(error_of(R"({"max_particles": -5})").find("non-negative"), std::string::npos);
     EXPECT_NE(error_of(R"({"base": "lake"})").find("unknown scene 'lake'"), std::string::npos);
     EXPECT_NE(error_of(R"([1, 2])").find("one JSON object"), std::string::npos);

@@ -28,6 +28,9 @@ void validate_scene(const SceneDesc& s, const std::string& origin) {
         if (!ok) throw std::invalid_argument(where + ": " + what);
     };
     const auto got = [](double v) { return ", got " + number_text(v); };
+    const auto vec3 = [](Vec3f v) {
+        return ", got [" + number_text(v.x) + ", " + number_text(v.y) + ", " + number_text(v.z) + "]";
+    };
     check(s.warmup_frames >= 0 && s.warmup_frames <= kMaxWarmupFrames,
           "warmup_frames must be in [0, " + std::to_string(kMaxWarmupFrames) + "]" + got(s.warmup_frames));
     check(s.max_particles >= 1 && s.max_particles <= kMaxSceneParticles,
@@ -37,7 +40,11 @@ void validate_scene(const SceneDesc& s, const std::string& origin) {
     check(std::isfinite(s.particle_radius) && s.particle_radius > 0,
           "particle_radius must be positive" + got(s.particle_radius));
     check(std::isfinite(s.lifetime) && s.lifetime > 0, "lifetime must be positive" + got(s.lifetime));
-    check(finite(s.gravity) && std::isfinite(s.ground_y), "gravity and ground_y must be finite");
+    // 1000 g: far past any fluid worth drawing; at 1e9 m/s^2 the dam break's first step overflowed to NaN.
+    constexpr float kMaxGravity = 1e4f;
+    check(finite(s.gravity) && std::abs(s.gravity.x) <= kMaxGravity && std::abs(s.gravity.y) <= kMaxGravity &&
+              std::abs(s.gravity.z) <= kMaxGravity && std::isfinite(s.ground_y),
+          "gravity must be finite, each component within 1e4 m/s^2, and ground_y finite" + vec3(s.gravity));
     check(std::isfinite(s.restitution) && s.restitution >= 0 && s.restitution <= 1,
           "restitution must be in [0, 1]" + got(s.restitution));
     check(std::isfinite(s.friction) && s.friction >= 0 && s.friction <= 1,
@@ -71,14 +78,11 @@ void validate_scene(const SceneDesc& s, const std::string& origin) {
     const auto within = [](Vec3f v, float lo, float hi) {
         return finite(v) && v.x >= lo && v.x <= hi && v.y >= lo && v.y <= hi && v.z >= lo && v.z <= hi;
     };
-    const auto vec = [](Vec3f v) {
-        return ", got [" + number_text(v.x) + ", " + number_text(v.y) + ", " + number_text(v.z) + "]";
-    };
     check(within(s.look.water.color, 0, 1),
-          "look.water_color must be in [0, 1] per channel" + vec(s.look.water.color));
+          "look.water_color must be in [0, 1] per channel" + vec3(s.look.water.color));
     check(within(s.look.water.absorption, 0, kMaxWaterAbsorption),
           "look.absorption must be in [0, " + number_text(kMaxWaterAbsorption) + "] per channel (1/m)" +
-              vec(s.look.water.absorption));
+              vec3(s.look.water.absorption));
     const std::vector<std::string>& faces = s.look.environment.faces;
     check(faces.empty() || faces.size() == 6,
           "look.environment needs six face images (+x, -x, +y, -y, +z, -z) or none, got " +
