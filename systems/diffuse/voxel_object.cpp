@@ -32,19 +32,33 @@ VoxelAttributesDesc builtin_defaults() {
     return d;
 }
 
-// `top` with the fields `under` sets where `top` leaves them unset.
-VoxelAttributesDesc layered(const VoxelAttributesDesc& top, const VoxelAttributesDesc& under) {
+// `top` with the fields `under` sets where `top` leaves them unset (-1, as scene_to_json writes them).
+// Any other negative value, or a colour only partly unset, is a mistake the layering would otherwise read
+// as unset, giving another look than the one asked for without a word: an error naming `where`.key.
+VoxelAttributesDesc layered(const VoxelAttributesDesc& top, const VoxelAttributesDesc& under,
+                            const std::string& where) {
     VoxelAttributesDesc r = top;
-    const auto pick = [](float& a, float b) {
+    const auto pick = [&](const char* key, float& a, float b) {
+        if (a < 0 && a != -1.0f)
+            throw std::invalid_argument(where + "." + key + ": must not be negative (-1: the default)");
         if (a < 0) a = b;
     };
-    pick(r.max_density, under.max_density), pick(r.fill_time, under.fill_time), pick(r.alpha, under.alpha);
-    pick(r.size, under.size), pick(r.fade_alpha, under.fade_alpha), pick(r.fade_size, under.fade_size);
-    pick(r.lifetime, under.lifetime), pick(r.interpolation_time, under.interpolation_time);
-    pick(r.drag, under.drag), pick(r.jitter, under.jitter), pick(r.force_rate, under.force_rate);
-    pick(r.force_pull, under.force_pull);
-    if (r.color.x < 0) r.color = under.color;
-    if (r.fade_color.x < 0) r.fade_color = under.fade_color;
+    pick("max_density", r.max_density, under.max_density), pick("fill_time", r.fill_time, under.fill_time);
+    pick("alpha", r.alpha, under.alpha), pick("size", r.size, under.size);
+    pick("fade_alpha", r.fade_alpha, under.fade_alpha), pick("fade_size", r.fade_size, under.fade_size);
+    pick("lifetime", r.lifetime, under.lifetime);
+    pick("interpolation_time", r.interpolation_time, under.interpolation_time);
+    pick("drag", r.drag, under.drag), pick("jitter", r.jitter, under.jitter);
+    pick("force_rate", r.force_rate, under.force_rate), pick("force_pull", r.force_pull, under.force_pull);
+    const auto pick_colour = [&](const char* key, Vec3f& c, Vec3f b) {
+        if (c.x < 0 || c.y < 0 || c.z < 0) {
+            if (!(c.x == -1.0f && c.y == -1.0f && c.z == -1.0f))
+                throw std::invalid_argument(
+                    where + "." + key + ": colour components must be in [0, 1] ([-1, -1, -1]: the default)");
+            c = b;
+        }
+    };
+    pick_colour("color", r.color, under.color), pick_colour("fade_color", r.fade_color, under.fade_color);
     if (r.fade_size < 0 && r.size > 0) r.fade_size = 1.5f * r.size;  // motes swell as they fade
     if (r.force.empty()) {
         r.force = under.force;
@@ -150,7 +164,7 @@ void validate_diffuse_desc(const DiffuseDesc& d, const std::string& where) {
     check(d.resolution >= 1 && d.resolution <= 256, "resolution: must be in [1, 256]");
     check(std::isfinite(d.scale) && d.scale > 0 && d.scale <= 1e4f, "scale: must be in (0, 1e4]");
     check(finite(d.position), "position: must be finite");
-    const VoxelAttributesDesc base = layered(d.defaults, builtin_defaults());
+    const VoxelAttributesDesc base = layered(d.defaults, builtin_defaults(), where + ".diffuse.defaults");
     validate_voxel_attributes(base, where + ".diffuse.defaults");
     check(d.regions.size() <= 1000, "regions: at most 1000");
     for (std::size_t i = 0; i < d.regions.size(); ++i) {
@@ -160,7 +174,8 @@ void validate_diffuse_desc(const DiffuseDesc& d, const std::string& where) {
               at + ".shape: expected \"box\", \"sphere\" or \"all\"");
         check(finite(r.min) && finite(r.max) && finite(r.center) && std::isfinite(r.radius) && r.radius >= 0,
               at + ": needs finite min, max, center and a radius >= 0");
-        validate_voxel_attributes(layered(r.attributes, base), where + ".diffuse." + at + ".attributes");
+        const std::string attributes = where + ".diffuse." + at + ".attributes";
+        validate_voxel_attributes(layered(r.attributes, base, attributes), attributes);
     }
     check(std::isfinite(d.dissolve.start) && finite(d.dissolve.wind) &&
               std::isfinite(d.dissolve.front_speed) && d.dissolve.front_speed >= 0 &&
@@ -219,15 +234,16 @@ VoxelObject build_voxel_object(const DiffuseDesc& desc, const ColoredMesh& mesh,
     const Vec3f grid_centre =
         obj.shape.origin +
         Vec3f{float(obj.shape.nx), float(obj.shape.ny), float(obj.shape.nz)} * (0.5f * obj.shape.cell);
-    const VoxelAttributesDesc base = layered(desc.defaults, builtin_defaults());
+    const VoxelAttributesDesc base = layered(desc.defaults, builtin_defaults(), "diffuse.defaults");
     obj.materials.push_back(resolve(base, grid_centre, dt, "diffuse.defaults"));
     for (std::size_t r = 0; r < desc.regions.size(); ++r) {
         const DiffuseRegion& region = desc.regions[r];
         const Vec3f centre = region.shape == "sphere" ? region.center
                              : region.shape == "all"  ? grid_centre
                                                       : (region.min + region.max) * 0.5f;
-        obj.materials.push_back(resolve(layered(region.attributes, base), centre, dt,
-                                        "diffuse.regions[" + std::to_string(r) + "].attributes"));
+        const std::string attributes = "diffuse.regions[" + std::to_string(r) + "].attributes";
+        obj.materials.push_back(
+            resolve(layered(region.attributes, base, attributes), centre, dt, attributes));
     }
     for (int iz = 0; iz < obj.shape.nz; ++iz)
         for (int iy = 0; iy < obj.shape.ny; ++iy)

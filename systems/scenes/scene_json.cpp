@@ -5,8 +5,6 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
-#include <string_view>
-#include <type_traits>
 #include <vector>
 
 #include "systems/io/io_limits.h"
@@ -89,25 +87,6 @@ void members(VoxelAttributesDesc& a, F&& f) {
     f("fade_size", a.fade_size), f("lifetime", a.lifetime), f("interpolation_time", a.interpolation_time);
     f("drag", a.drag), f("jitter", a.jitter), f("force", a.force), f("force_vector", a.force_vector);
     f("force_rate", a.force_rate), f("force_pull", a.force_pull), f("about_region", a.about_region);
-}
-// An attribute left unset is -1 (the layer below gives it), and scene_to_json writes it so; any other
-// negative number, or a colour off [0, 1] (such as 0-255 components), would be read as unset or be
-// clamped, and the user would get another look than the one asked for without a word.
-void read(const json& j, VoxelAttributesDesc& out, const std::string& where) {
-    json_fields::read(j, out, where);
-    members(out, [&](const char* key, auto& field) {
-        using T = std::decay_t<decltype(field)>;
-        if constexpr (std::is_same_v<T, float>) {
-            if (field < 0 && field != -1.0f)
-                fail(where + "." + key, "must not be negative (-1: the default)");
-        } else if constexpr (std::is_same_v<T, Vec3f>) {
-            if (std::string_view(key) == "force_vector") return;
-            const bool unset = field.x == -1.0f && field.y == -1.0f && field.z == -1.0f;
-            const auto in_unit = [](float c) { return c >= 0.0f && c <= 1.0f; };
-            if (!unset && !(in_unit(field.x) && in_unit(field.y) && in_unit(field.z)))
-                fail(where + "." + key, "colour components must be in [0, 1] ([-1, -1, -1]: the default)");
-        }
-    });
 }
 template <class F>
 void members(DiffuseRegion& r, F&& f) {
