@@ -176,7 +176,14 @@ struct Lanes {
         columns = v <= last ? out : U{} + outside;
     }
     // Bit l set where lane l of the comparison result is true.
-    RIVULET_INLINE static unsigned bits(const I& m) { return lane_bits(m); }
+    RIVULET_INLINE static unsigned bits(const I& m) {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+        // One vmovmskps: only the AVX2 build runs eight lanes, and GCC checks a builtin's instruction set
+        // where it is expanded, in update_range_avx2 (Clang merges the two halves itself).
+        if constexpr (L == 8) return unsigned(__builtin_ia32_movmskps256(__builtin_bit_cast(F, m)));
+#endif
+        return lane_bits(m);
+    }
 };
 
 // One row of the step table at each lane's column. Eight lanes and eight columns: one permute where the
@@ -200,8 +207,10 @@ RIVULET_INLINE void pick(typename Lanes<L>::F& out, const float* row, const type
 
 // Particles [i, i + n), n <= L: motion (apply_voxel_step, lane by lane the same operations), collisions,
 // voxel lookup, voxel changes, interpolation and the sprite.
+// `ctx` is the caller's copy (update_range), `shared` the context itself, for the calls out of line.
 template <int L>
-RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i, int n, BlockLists& lists) {
+RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, const DiffuseUpdateContext& shared,
+                                 std::size_t i, int n, BlockLists& lists) {
     using Ln = Lanes<L>;
     using F = typename Ln::F;
     using I = typename Ln::I;
@@ -332,7 +341,7 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
     for (unsigned b = near & ((1u << n) - 1u); b; b &= b - 1) {
         const int l = __builtin_ctz(b);
         Vec3f p{px[l], py[l], pz[l]}, v{vx[l], vy[l], vz[l]};
-        collide_all(ctx, Vec3f{px0[l], py0[l], pz0[l]}, p, v);
+        collide_all(shared, Vec3f{px0[l], py0[l], pz0[l]}, p, v);
         px[l] = p.x, py[l] = p.y, pz[l] = p.z, vx[l] = v.x, vy[l] = v.y, vz[l] = v.z;
     }
     Ln::store(&P.x[i], px, n), Ln::store(&P.y[i], py, n), Ln::store(&P.z[i], pz, n);
@@ -427,9 +436,9 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
         }
         bool faded;
         if constexpr (L == 8)
-            faded = change_voxel_avx2(ctx, k, old_voxel[l], voxel[l], elapsed[l], move);
+            faded = change_voxel_avx2(shared, k, old_voxel[l], voxel[l], elapsed[l], move);
         else
-            faded = change_voxel_baseline(ctx, k, old_voxel[l], voxel[l], elapsed[l], move);
+            faded = change_voxel_baseline(shared, k, old_voxel[l], voxel[l], elapsed[l], move);
         dead |= unsigned(faded) << l;
     }
     // The frame's sprites are the particles as this step leaves them, the dead among them transparent:
@@ -443,10 +452,18 @@ RIVULET_INLINE void update_lanes(const DiffuseUpdateContext& ctx, std::size_t i,
 
 template <int L>
 RIVULET_INLINE void update_range(const DiffuseUpdateContext& ctx, std::size_t begin, std::size_t end,
-                                 BlockLists& lists) {
+                                 BlockLists& out) {
+    // A copy whose address never escapes, so its counts stay in registers: through `out` every store
+    // to the lists might change them, and the compiler would read them again after each.
+    BlockLists lists = out;
+    // The same for the context: the lanes read a copy the functions out of line never see, so its
+    // fields (the scene's constants, the arrays' places) can be held across the loop instead of read
+    // again after every store.
+    const DiffuseUpdateContext local = ctx;
     std::size_t i = begin;
-    for (; i + L <= end; i += L) update_lanes<L>(ctx, i, L, lists);
-    if (i < end) update_lanes<L>(ctx, i, int(end - i), lists);
+    for (; i + L <= end; i += L) update_lanes<L>(local, ctx, i, L, lists);
+    if (i < end) update_lanes<L>(local, ctx, i, int(end - i), lists);
+    out = lists;
 }
 
 RIVULET_AVX2 void update_range_avx2(const DiffuseUpdateContext& ctx, std::size_t begin, std::size_t end,
