@@ -7,6 +7,8 @@
 namespace rivulet {
 namespace {
 
+constexpr std::size_t kPrefetchBirths = 16;
+
 std::uint32_t wanted(std::uint32_t v, const DiffuseEmitContext& ctx) {
     if (ctx.column[v] == ctx.materials.size()) return 0;  // no particle may appear inside a solid (§5.2)
     if (ctx.dissolve.active() &&
@@ -38,7 +40,10 @@ std::size_t diffuse_emit_offsets(const DiffuseEmitContext& ctx, std::size_t room
     return total;
 }
 
-void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& ctx) {
+void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& shared) {
+    // A copy whose address never escapes: read through the reference, every field would be read again
+    // after each store to a particle array (the compiler cannot rule out that they overlap).
+    const DiffuseEmitContext ctx = shared;
     const std::size_t begin = block * ctx.block_size,
                       end = std::min(ctx.inside.size(), begin + ctx.block_size);
     std::uint32_t left = ctx.counts[block];
@@ -52,6 +57,13 @@ void diffuse_emit_block(std::size_t block, const DiffuseEmitContext& ctx) {
         const VoxelMaterial& m = ctx.materials[ctx.material[v]];
         const Vec3f corner = ctx.grid.voxel_min(v) + ctx.offset;
         for (std::uint32_t j = 0; j < n; ++j, ++birth) {
+            // The places of later births are scattered over the arrays: ask for their lines early.
+            if (const std::size_t ahead = birth + kPrefetchBirths; ahead < ctx.places.size()) {
+                const std::uint32_t at = ctx.places[ahead];
+                for (float* a : {&P.x[at], &P.y[at], &P.z[at], &P.vx[at], &P.vy[at], &P.vz[at]})
+                    __builtin_prefetch(a, 1);
+                __builtin_prefetch(&P.id[at], 1), __builtin_prefetch(&A.voxel[at], 1);
+            }
             const std::size_t out =
                 birth < ctx.places.size() ? ctx.places[birth] : ctx.first + (birth - ctx.places.size());
             const std::uint32_t id = ctx.first_id + static_cast<std::uint32_t>(birth);
