@@ -183,17 +183,17 @@ TEST(DfsphJobs, ChebyshevWeightsReachTheBoundInFewerIterations) {
 }
 
 // A jittered lattice in a walled box, sorted into cells of h: its spacing does not divide h, so rows have
-// every length and the AVX2 gather's full and masked loads both run.
+// every length and the AVX2 gather's full and masked loads both run. `jitter`: the offsets' span, in d.
 struct SortedCloud {
     std::vector<float> x, y, z;
     std::vector<std::uint32_t> key, cell_start;
     SphGrid grid;
-    SortedCloud(int k, float d, float h) {
+    SortedCloud(int k, float d, float h, float jitter_span = 0.6f) {
         std::vector<float> px, py, pz;
         std::uint32_t state = 12345u;
         const auto jitter = [&] {
             state = state * 1664525u + 1013904223u;
-            return (float(state >> 8) / 16777216.0f - 0.5f) * 0.6f * d;
+            return (float(state >> 8) / 16777216.0f - 0.5f) * jitter_span * d;
         };
         for (int c = 0; c < k; ++c)
             for (int b = 0; b < k; ++b)
@@ -233,7 +233,8 @@ struct WalledCloud {
     DfsphWallTable table{kernel, volume, d};
     SphWalls walls;
     // `spacing` below d packs more neighbours within h (0.4 d: about 300, several batches a particle).
-    explicit WalledCloud(int k, float spacing = 0.93f * d) : cloud(k, spacing, h) {
+    explicit WalledCloud(int k, float spacing = 0.93f * d, float jitter_span = 0.6f)
+        : cloud(k, spacing, h, jitter_span) {
         walls.enabled = true;
         for (int a = 0; a < 3; ++a) walls.min[a] = 0.0f, walls.max[a] = float(k) * spacing;
     }
@@ -268,8 +269,8 @@ void expect_builds_agree(const WalledCloud& w) {
     EXPECT_TRUE(same_bytes(fast.x4, baseline.x4));
 }
 
-TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
-    const WalledCloud w(12);
+// Against brute force: exactly the others within h, in the cell search's order of cells.
+void expect_lists_within_h(const WalledCloud& w) {
     const SortedCloud& cloud = w.cloud;
     const std::size_t n = cloud.size();
     Lists fast(n);
@@ -290,6 +291,19 @@ TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
         }
     }
     expect_builds_agree(w);
+}
+
+TEST(DfsphJobs, ListsHoldTheNeighboursWithinHAndBothBuildsGiveTheSameBytes) {
+    expect_lists_within_h(WalledCloud(12));
+    if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here: both runs were the baseline build";
+}
+
+// Offsets of up to 1.5 spacings scramble the lattice into clumps and gaps: cells hold from none to about
+// twenty particles and their particles' boxes (which cull each cell's candidates) every size, so
+// neighbours sit just inside h of a box's corners, edges and faces.
+TEST(DfsphJobs, ListsHoldTheNeighboursWithinHWhereParticlesClumpAndCellsAreUneven) {
+    for (const float span : {1.5f, 3.0f})
+        expect_lists_within_h(WalledCloud(12, 0.93f * WalledCloud::d, span));
     if (!cpu_has_avx2()) GTEST_SKIP() << "no AVX2 here: both runs were the baseline build";
 }
 
