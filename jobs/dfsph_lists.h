@@ -11,11 +11,12 @@
 // 2012) or volume maps (Bender et al. 2019) they count in the gradient sum only: the wall does not
 // answer i's pressure. Lists live in per-chunk vectors that
 // keep their capacity: in steady state nothing is allocated.
-// The build: per cell, the particles of the 27 cells around it are copied into one run, which each of the
-// cell's particles scans (eight at a time with AVX2 where the CPU has it, the hits compacted by a permute;
-// four at a time in the baseline build); the hits' kernel values and gradients then go eight lanes at a
-// time, each lane summing its share, the lanes added in a fixed tree at the end: the same bytes from
-// either build at any thread count.
+// The build: per cell, the particles of the 27 cells around it that lie within h of the box around the
+// cell's own particles are copied into one run, which each of the cell's particles scans (eight at a
+// time with AVX2 where the CPU has it, the hits compacted by a permute; four at a time in the baseline
+// build); the hits' kernel values and gradients then go eight lanes at a time, each lane summing its
+// share, the lanes added in a fixed tree at the end: the same bytes from either build at any thread
+// count.
 #include <array>
 #include <cstddef>
 #include <cstdint>
