@@ -1,5 +1,6 @@
 #include "jobs/dfsph_solve.h"
 
+#include "jobs/cpu_dispatch.h"
 #include "jobs/simd4.h"
 
 namespace rivulet {
@@ -119,11 +120,9 @@ inline double relax_divergence(const DfsphContext& c, std::size_t i, float rate,
     return relax(r, dt, check.factor[i], check.k_total[i], check.k[i], w);
 }
 
-}  // namespace
-
-double dfsph_divergence_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                                 float dt, std::span<const float> v4, const DfsphDivergenceCheck& check,
-                                 float chebyshev) {
+RIVULET_INLINE double divergence_residual_pass(const DfsphContext& c, std::size_t chunk, std::size_t begin,
+                                               std::size_t end, float dt, std::span<const float> v4,
+                                               const DfsphDivergenceCheck& check, float chebyshev) {
     const DfsphChunkLists& l = c.lists[chunk];
     double sum = 0.0;
     for (std::size_t i = begin; i < end; ++i)
@@ -131,10 +130,11 @@ double dfsph_divergence_residual(const DfsphContext& c, std::size_t chunk, std::
     return sum;
 }
 
-double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
-                      std::span<const float> v4, std::span<const float> density_ratio,
-                      std::span<const float> factor, std::span<const float> k_total, std::span<float> k,
-                      float catch_up, float chebyshev) {
+RIVULET_INLINE double residual_pass(const DfsphContext& c, std::size_t chunk, std::size_t begin,
+                                    std::size_t end, float dt, std::span<const float> v4,
+                                    std::span<const float> density_ratio, std::span<const float> factor,
+                                    std::span<const float> k_total, std::span<float> k, float catch_up,
+                                    float chebyshev) {
     const DfsphChunkLists& l = c.lists[chunk];
     double sum = 0.0;
     for (std::size_t i = begin; i < end; ++i) {
@@ -145,8 +145,8 @@ double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begi
     return sum;
 }
 
-void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                   std::span<const float> k, const DfsphVelocities& v) {
+RIVULET_INLINE void correct_pass(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                                 std::span<const float> k, const DfsphVelocities& v) {
     const DfsphChunkLists& l = c.lists[chunk];
     for (std::size_t i = begin; i < end; ++i) {
         float d[3];
@@ -157,10 +157,11 @@ void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, 
     }
 }
 
-DfsphPredictSums dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
-                               float dt, float nu, float h, const float gravity[3], std::span<const float> v4,
-                               std::span<const float> k_warm, const DfsphDivergenceCheck& check,
-                               const DfsphVelocities& out) {
+RIVULET_INLINE DfsphPredictSums predict_pass(const DfsphContext& c, std::size_t chunk, std::size_t begin,
+                                             std::size_t end, float dt, float nu, float h,
+                                             const float gravity[3], std::span<const float> v4,
+                                             std::span<const float> k_warm, const DfsphDivergenceCheck& check,
+                                             const DfsphVelocities& out) {
     const DfsphChunkLists& l = c.lists[chunk];
     const float eps2 = 0.01f * h * h;
     const float scale = 10.0f * nu;
@@ -182,6 +183,80 @@ DfsphPredictSums dfsph_predict(const DfsphContext& c, std::size_t chunk, std::si
         out.v4[4 * i] = ox, out.v4[4 * i + 1] = oy, out.v4[4 * i + 2] = oz, out.v4[4 * i + 3] = 0.0f;
     }
     return sums;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// The passes again for AVX2 CPUs: the same four-lane operations in the same order (so the same bytes),
+// VEX-encoded. The pair loops are bound by instruction issue, not by their additions' latency or by
+// memory; there a pair's factor is broadcast by its load and no register is copied for a two-operand
+// form, 11 instructions a pair instead of 16, and the passes take about a sixth less time.
+[[gnu::flatten]] RIVULET_AVX2 double divergence_residual_avx2(const DfsphContext& c, std::size_t chunk,
+                                                              std::size_t begin, std::size_t end, float dt,
+                                                              std::span<const float> v4,
+                                                              const DfsphDivergenceCheck& check,
+                                                              float chebyshev) {
+    return divergence_residual_pass(c, chunk, begin, end, dt, v4, check, chebyshev);
+}
+[[gnu::flatten]] RIVULET_AVX2 double residual_avx2(
+    const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
+    std::span<const float> v4, std::span<const float> density_ratio, std::span<const float> factor,
+    std::span<const float> k_total, std::span<float> k, float catch_up, float chebyshev) {
+    return residual_pass(c, chunk, begin, end, dt, v4, density_ratio, factor, k_total, k, catch_up,
+                         chebyshev);
+}
+[[gnu::flatten]] RIVULET_AVX2 void correct_avx2(const DfsphContext& c, std::size_t chunk, std::size_t begin,
+                                                std::size_t end, std::span<const float> k,
+                                                const DfsphVelocities& v) {
+    correct_pass(c, chunk, begin, end, k, v);
+}
+[[gnu::flatten]] RIVULET_AVX2 DfsphPredictSums
+predict_avx2(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt, float nu,
+             float h, const float gravity[3], std::span<const float> v4, std::span<const float> k_warm,
+             const DfsphDivergenceCheck& check, const DfsphVelocities& out) {
+    return predict_pass(c, chunk, begin, end, dt, nu, h, gravity, v4, k_warm, check, out);
+}
+#endif
+
+}  // namespace
+
+double dfsph_divergence_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                                 float dt, std::span<const float> v4, const DfsphDivergenceCheck& check,
+                                 float chebyshev) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2()) return divergence_residual_avx2(c, chunk, begin, end, dt, v4, check, chebyshev);
+#endif
+    return divergence_residual_pass(c, chunk, begin, end, dt, v4, check, chebyshev);
+}
+
+double dfsph_residual(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt,
+                      std::span<const float> v4, std::span<const float> density_ratio,
+                      std::span<const float> factor, std::span<const float> k_total, std::span<float> k,
+                      float catch_up, float chebyshev) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2())
+        return residual_avx2(c, chunk, begin, end, dt, v4, density_ratio, factor, k_total, k, catch_up,
+                             chebyshev);
+#endif
+    return residual_pass(c, chunk, begin, end, dt, v4, density_ratio, factor, k_total, k, catch_up,
+                         chebyshev);
+}
+
+void dfsph_correct(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                   std::span<const float> k, const DfsphVelocities& v) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2()) return correct_avx2(c, chunk, begin, end, k, v);
+#endif
+    correct_pass(c, chunk, begin, end, k, v);
+}
+
+DfsphPredictSums dfsph_predict(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end,
+                               float dt, float nu, float h, const float gravity[3], std::span<const float> v4,
+                               std::span<const float> k_warm, const DfsphDivergenceCheck& check,
+                               const DfsphVelocities& out) {
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (cpu_has_avx2()) return predict_avx2(c, chunk, begin, end, dt, nu, h, gravity, v4, k_warm, check, out);
+#endif
+    return predict_pass(c, chunk, begin, end, dt, nu, h, gravity, v4, k_warm, check, out);
 }
 
 }  // namespace rivulet

@@ -26,7 +26,8 @@
 // pairs and velocities: warm-started, that solve is done at its first look on most substeps, and the
 // look then costs no pass of its own. Each pass writes only particles [begin, end) and reads neighbours
 // in list order: the bytes do not depend on the split. Residual passes return their chunk's summed error
-// (double) for the solver's average.
+// (double) for the solver's average. Where the CPU has AVX2 the passes run a VEX-encoded build of the
+// same operations (jobs/cpu_dispatch.h): the same bytes.
 #include <cmath>
 #include <cstddef>
 #include <span>
