@@ -326,12 +326,13 @@ struct PairSums {
 // candidates (lanes past the batch add nothing), so a particle's sums depend only on its candidates'
 // order, never on the build or the thread.
 RIVULET_INLINE void flush_batch(const SphCubicKernel& kernel, float volume, Candidates& c, PairSums& sums,
-                                DfsphPair* pairs, const float* k_warm, float ki) {
+                                DfsphPair* pairs, const float* k_warm, float ki, std::uint32_t self) {
     const i8 lane = {0, 1, 2, 3, 4, 5, 6, 7};
     const float tiny = 1e-9f * kernel.h;
     // Lanes past the batch read zeros (whatever they held could be an infinity, and 0 inf is NaN) and
-    // index particle 0 (the warm start reads its stiffness).
-    for (int k = c.count; k % 8 != 0; ++k) c.r2[k] = c.dx[k] = c.dy[k] = c.dz[k] = 0.0f, c.j[k] = 0;
+    // index the particle itself: they are stored as its list's pad pairs (0, i), whose terms in the passes
+    // read only its own values.
+    for (int k = c.count; k % 8 != 0; ++k) c.r2[k] = c.dx[k] = c.dy[k] = c.dz[k] = 0.0f, c.j[k] = self;
     for (int k = 0; k < c.count; k += 8) {
         const i8 valid = lane < (c.count - k);
         f8 r2, r, dx, dy, dz;
@@ -346,7 +347,7 @@ RIVULET_INLINE void flush_batch(const SphCubicKernel& kernel, float volume, Cand
         sums.gx += gx, sums.gy += gy, sums.gz += gz;
         sums.g2 += f * f * r2;
         if (k_warm != nullptr) {
-            const std::uint32_t* j = c.j + k;  // lanes past the batch index particle 0; their f is 0
+            const std::uint32_t* j = c.j + k;  // lanes past the batch index the particle; their f is 0
             const f8 kj = {k_warm[j[0]], k_warm[j[1]], k_warm[j[2]], k_warm[j[3]],
                            k_warm[j[4]], k_warm[j[5]], k_warm[j[6]], k_warm[j[7]]};
             const f8 kij = ki + kj;
@@ -380,7 +381,7 @@ RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel
             const std::size_t room = used + std::size_t(batch.count) + 8;
             if (lists.pairs.size() < room)
                 lists.pairs.resize(std::max({room, 2 * lists.pairs.size(), lists.pairs.capacity()}));
-            flush_batch(kernel, volume, batch, sums, lists.pairs.data() + used, k_warm, ki);
+            flush_batch(kernel, volume, batch, sums, lists.pairs.data() + used, k_warm, ki, self);
             used += std::size_t(batch.count);
             batch.count = 0;
         };
@@ -410,6 +411,7 @@ RIVULET_INLINE void build_lists(const SphNeighbourhood& nb, const SphCubicKernel
             gather_near(lists.near, near, q, self, h2, batch, flush_groups);
         flush();
         out.pair_end[i] = static_cast<std::uint32_t>(used);
+        used = (used + 3) & ~std::size_t(3);  // the flush wrote the pad pairs (0, i) up to here
         out.x4[4 * i] = q[0], out.x4[4 * i + 1] = q[1], out.x4[4 * i + 2] = q[2], out.x4[4 * i + 3] = 0.0f;
         float gx = sum8(sums.gx), gy = sum8(sums.gy), gz = sum8(sums.gz);
         const float g2 = sum8(sums.g2);

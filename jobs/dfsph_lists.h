@@ -63,8 +63,10 @@ struct DfsphNearCells {
     std::vector<std::uint32_t> j;
 };
 // One chunk's lists: particle i (of the chunk's range) has pairs [pair_begin[i], pair_end[i]) of the
-// chunk's vector. The vector keeps the size of the longest lists built so far; pairs past the last
-// particle's end are stale.
+// chunk's vector. Every list starts at a multiple of four pairs, and the pairs from its end to the next
+// multiple are (0, i), i the particle itself: the passes read whole groups of four, one loop test per
+// four pairs, and a pad pair's term is a zero, which leaves a sum's bits as they were. The vector keeps the
+// size of the longest lists built so far; pairs past the last particle's pad are stale.
 struct DfsphChunkLists {
     std::vector<DfsphPair> pairs;
     DfsphNearCells near;  // scratch of the build

@@ -26,9 +26,15 @@ inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_
     const simd::F4 vi = simd::load(&v4[4 * i]);
     const simd::F4 xi = simd::load(&c.x4[4 * i]);
     simd::F4 sum = simd::splat(0.0f);
-    for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
-        const DfsphPair& q = l.pairs[p];
-        sum = sum + pair_gradient(c, xi, q) * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
+    const auto term = [&](const DfsphPair& q) {
+        return pair_gradient(c, xi, q) * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
+    };
+    for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; p += 4) {
+        const DfsphPair* const q = &l.pairs[p];
+        sum = sum + term(q[0]);
+        sum = sum + term(q[1]);
+        sum = sum + term(q[2]);
+        sum = sum + term(q[3]);
     }
     alignas(16) float s[4];
     simd::store(s, sum);
@@ -44,9 +50,13 @@ inline void correction_of(const DfsphContext& c, const DfsphChunkLists& l, std::
     const float ki = k[i];
     const simd::F4 xi = simd::load(&c.x4[4 * i]);
     simd::F4 sum = simd::splat(0.0f);
-    for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; ++p) {
-        const DfsphPair& q = l.pairs[p];
-        sum = sum + simd::splat(ki + k[q.j]) * pair_gradient(c, xi, q);
+    const auto term = [&](const DfsphPair& q) { return simd::splat(ki + k[q.j]) * pair_gradient(c, xi, q); };
+    for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; p += 4) {
+        const DfsphPair* const q = &l.pairs[p];
+        sum = sum + term(q[0]);
+        sum = sum + term(q[1]);
+        sum = sum + term(q[2]);
+        sum = sum + term(q[3]);
     }
     alignas(16) float lanes[4];
     simd::store(lanes, sum);
@@ -55,10 +65,10 @@ inline void correction_of(const DfsphContext& c, const DfsphChunkLists& l, std::
 }
 
 // Over particle i's pairs, four to a vector (a pair a lane, their neighbours' packed positions and
-// velocities turned into columns; a missing pair is i itself, which adds +0): the viscosity's sum
-// sum_j (v_ij . x_ij) / (r_ij^2 + eps2) V grad W_ij (Monaghan's form) into a, and the rate
-// sum_j V grad W_ij . (v_i - v_j) = sum_j f_ij (v_ij . x_ij), returned. Each lane's sums are added in a
-// fixed order at the end.
+// velocities turned into columns; past the list's end its pad pairs (0, i), which add +0): the viscosity's
+// sum sum_j (v_ij . x_ij) / (r_ij^2 + eps2) V grad W_ij (Monaghan's form) into a, and the rate sum_j V grad
+// W_ij . (v_i - v_j) = sum_j f_ij (v_ij . x_ij), returned. Each lane's sums are added in a fixed order at the
+// end.
 inline float viscosity_and_rate(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
                                 std::span<const float> v4, float eps2, float a[3]) {
     using simd::F4;
@@ -68,14 +78,11 @@ inline float viscosity_and_rate(const DfsphContext& c, const DfsphChunkLists& l,
     const F4 vxi = simd::splat(v[4 * i]), vyi = simd::splat(v[4 * i + 1]), vzi = simd::splat(v[4 * i + 2]);
     const F4 e2 = simd::splat(eps2);
     F4 ax = simd::splat(0.0f), ay = ax, az = ax, rate = ax;
-    const auto self = static_cast<std::uint32_t>(i);
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; p += 4) {
-        const std::uint32_t n = c.pair_end[i] - p;
-        const DfsphPair none{0.0f, self};
         const DfsphPair& q0 = l.pairs[p];
-        const DfsphPair& q1 = n > 1 ? l.pairs[p + 1] : none;
-        const DfsphPair& q2 = n > 2 ? l.pairs[p + 2] : none;
-        const DfsphPair& q3 = n > 3 ? l.pairs[p + 3] : none;
+        const DfsphPair& q1 = l.pairs[p + 1];
+        const DfsphPair& q2 = l.pairs[p + 2];
+        const DfsphPair& q3 = l.pairs[p + 3];
         const std::size_t j0 = 4 * std::size_t(q0.j), j1 = 4 * std::size_t(q1.j), j2 = 4 * std::size_t(q2.j),
                           j3 = 4 * std::size_t(q3.j);
         F4 xj, yj, zj, vxj, vyj, vzj;

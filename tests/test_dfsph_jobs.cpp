@@ -246,6 +246,16 @@ struct WalledCloud {
     }
 };
 
+// Each list starts at a multiple of four pairs and is padded to the next with (0, i), which the passes
+// read as whole groups of four.
+void expect_padded(const Lists& l, std::size_t i) {
+    EXPECT_EQ(l.begin[i] % 4, 0u) << "particle " << i;
+    for (std::uint32_t p = l.end[i]; p % 4 != 0; ++p) {
+        EXPECT_EQ(l.lists.pairs[p].f, 0.0f) << "particle " << i;
+        EXPECT_EQ(l.lists.pairs[p].j, i) << "particle " << i;
+    }
+}
+
 // The build the CPU runs against the baseline: the same lists, values and bytes.
 void expect_builds_agree(const WalledCloud& w) {
     const std::size_t n = w.cloud.size();
@@ -273,11 +283,13 @@ void expect_builds_agree(const WalledCloud& w) {
 void expect_lists_within_h(const WalledCloud& w) {
     const SortedCloud& cloud = w.cloud;
     const std::size_t n = cloud.size();
-    Lists fast(n);
-    // Two chunks, the second reusing nothing of the first.
+    Lists fast(n), baseline(n);
+    // Two chunks, the second reusing nothing of the first (it writes its lists from the vector's start).
     for (auto [b, e] : {std::pair<std::size_t, std::size_t>{0, n / 3}, {n / 3, n}}) {
         w.build(fast, fast.out(), b, e, false);
+        w.build(baseline, baseline.out(), b, e, true);
         for (std::size_t i = b; i < e; ++i) {
+            expect_padded(fast, i), expect_padded(baseline, i);
             // Against brute force: exactly the others within h, in the cell search's order of cells.
             std::vector<std::uint32_t> want, got;
             for (std::uint32_t j = 0; j < n; ++j) {

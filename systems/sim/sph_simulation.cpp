@@ -139,7 +139,8 @@ std::size_t sph_seed_count(const SphDesc& desc) {
 namespace {
 
 // Pairs first reserved per particle for the DFSPH lists: a particle inside the fluid at rest has 26 to 32
-// neighbours at support 2 spacings; the lists grow (once) where that is not enough.
+// neighbours at support 2 spacings, padded to a multiple of four; the lists grow (once) where that is not
+// enough.
 constexpr std::uint64_t kListPairs = 40;
 // The density error a substep starts with is removed over at least this time (s).
 constexpr float kDensityCatchUp = 0.004f;
