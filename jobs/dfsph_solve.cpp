@@ -19,16 +19,12 @@ inline simd::F4 pair_gradient(const DfsphContext& c, simd::F4 xi, const DfsphPai
     return simd::splat(q.f) * (xi - simd::load(&c.x4[4 * std::size_t(q.j)]));
 }
 
-// sum_j V grad W_ij . (v_i - v_j) over particle i's pairs, plus the walls': the three products summed
-// per axis in lanes, the axes added at the end.
-inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
-                     std::span<const float> v4) {
-    const simd::F4 vi = simd::load(&v4[4 * i]);
-    const simd::F4 xi = simd::load(&c.x4[4 * i]);
+// The sum of term(pair) over particle i's pairs, in list order from +0, four pairs a loop test: the list's
+// pad pairs (jobs/dfsph_lists.h) complete the last four, and their zero terms leave the sum's bits.
+template <class Term>
+inline simd::F4 sum_over_pairs(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
+                               const Term& term) {
     simd::F4 sum = simd::splat(0.0f);
-    const auto term = [&](const DfsphPair& q) {
-        return pair_gradient(c, xi, q) * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
-    };
     for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; p += 4) {
         const DfsphPair* const q = &l.pairs[p];
         sum = sum + term(q[0]);
@@ -36,6 +32,18 @@ inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_
         sum = sum + term(q[2]);
         sum = sum + term(q[3]);
     }
+    return sum;
+}
+
+// sum_j V grad W_ij . (v_i - v_j) over particle i's pairs, plus the walls': the three products summed
+// per axis in lanes, the axes added at the end.
+inline float rate_of(const DfsphContext& c, const DfsphChunkLists& l, std::size_t i,
+                     std::span<const float> v4) {
+    const simd::F4 vi = simd::load(&v4[4 * i]);
+    const simd::F4 xi = simd::load(&c.x4[4 * i]);
+    const simd::F4 sum = sum_over_pairs(c, l, i, [&](const DfsphPair& q) {
+        return pair_gradient(c, xi, q) * (vi - simd::load(&v4[4 * std::size_t(q.j)]));
+    });
     alignas(16) float s[4];
     simd::store(s, sum);
     float rate = (s[0] + s[1]) + s[2];
@@ -49,15 +57,8 @@ inline void correction_of(const DfsphContext& c, const DfsphChunkLists& l, std::
                           std::span<const float> k, float d[3]) {
     const float ki = k[i];
     const simd::F4 xi = simd::load(&c.x4[4 * i]);
-    simd::F4 sum = simd::splat(0.0f);
-    const auto term = [&](const DfsphPair& q) { return simd::splat(ki + k[q.j]) * pair_gradient(c, xi, q); };
-    for (std::uint32_t p = c.pair_begin[i]; p < c.pair_end[i]; p += 4) {
-        const DfsphPair* const q = &l.pairs[p];
-        sum = sum + term(q[0]);
-        sum = sum + term(q[1]);
-        sum = sum + term(q[2]);
-        sum = sum + term(q[3]);
-    }
+    const simd::F4 sum = sum_over_pairs(
+        c, l, i, [&](const DfsphPair& q) { return simd::splat(ki + k[q.j]) * pair_gradient(c, xi, q); });
     alignas(16) float lanes[4];
     simd::store(lanes, sum);
     d[0] = lanes[0] + ki * c.wall_gx[i], d[1] = lanes[1] + ki * c.wall_gy[i],
