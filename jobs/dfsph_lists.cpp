@@ -76,6 +76,19 @@ RIVULET_INLINE int flush_if_full(Candidates& c, int count, Flush& flush) {
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
+template <class Flush>
+[[gnu::noinline, gnu::cold]] RIVULET_AVX2 void flush_cold_avx2(Flush& flush) {
+    flush();
+}
+template <class Flush>
+RIVULET_INLINE int flush_if_full_avx2(Candidates& c, int count, Flush& flush) {
+    if (count <= Candidates::kBatch - 8) [[likely]]
+        return count;
+    c.count = count;
+    flush_cold_avx2(flush);
+    return c.count;
+}
+
 // Per 8-bit hit mask, the indices of its set lanes in order, four bits each: the compaction of eight
 // candidates is then one permute.
 constexpr std::array<std::uint32_t, 256> kCompactLanes = [] {
@@ -132,7 +145,7 @@ RIVULET_AVX2 inline void gather_near_avx2(const DfsphNearCells& near, std::size_
             _mm256_sub_ps(qx, _mm256_loadu_ps(x + k)), _mm256_sub_ps(qy, _mm256_loadu_ps(y + k)),
             _mm256_sub_ps(qz, _mm256_loadu_ps(z + k)),
             _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + k)), reach, 0xffu, self, c, count);
-        count = flush_if_full(c, count, flush);
+        count = flush_if_full_avx2(c, count, flush);
     }
     if (k < n) {
         const auto left = static_cast<unsigned>(n - k);
@@ -143,7 +156,7 @@ RIVULET_AVX2 inline void gather_near_avx2(const DfsphNearCells& near, std::size_
                                  _mm256_sub_ps(qz, _mm256_maskload_ps(z + k, in)),
                                  _mm256_maskload_epi32(reinterpret_cast<const int*>(index + k), in), reach,
                                  (1u << left) - 1u, self, c, count);
-        count = flush_if_full(c, count, flush);
+        count = flush_if_full_avx2(c, count, flush);
     }
     c.count = count;
 }
