@@ -3,6 +3,10 @@
 #include "jobs/cpu_dispatch.h"
 #include "jobs/simd4.h"
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 namespace rivulet {
 
 namespace {
@@ -105,6 +109,100 @@ inline float viscosity_and_rate(const DfsphContext& c, const DfsphChunkLists& l,
     return simd::sum(rate);
 }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+// The x, y and z columns of eight packed records, rows k and k + 4 in the two halves of row k: the
+// transpose of columns3 on both halves at once.
+RIVULET_AVX2 inline void columns3_avx2(__m256 r0, __m256 r1, __m256 r2, __m256 r3, __m256& x, __m256& y,
+                                       __m256& z) {
+    const __m256 xy01 = _mm256_unpacklo_ps(r0, r1), xy23 = _mm256_unpacklo_ps(r2, r3);
+    const __m256 zw01 = _mm256_unpackhi_ps(r0, r1), zw23 = _mm256_unpackhi_ps(r2, r3);
+    x = _mm256_shuffle_ps(xy01, xy23, 0x44), y = _mm256_shuffle_ps(xy01, xy23, 0xee);
+    z = _mm256_shuffle_ps(zw01, zw23, 0x44);
+}
+
+// Records j0 (low half) and j1 (high half) of a packed array as one row.
+RIVULET_AVX2 inline __m256 two_records(const float* base, std::size_t j0, std::size_t j1) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(base + j0)), _mm_loadu_ps(base + j1), 1);
+}
+
+// sum + the low half of t, then + its high half.
+RIVULET_AVX2 inline void add_halves(__m128& sum, __m256 t) {
+    sum = _mm_add_ps(sum, _mm256_castps256_ps128(t));
+    sum = _mm_add_ps(sum, _mm256_extractf128_ps(t, 1));
+}
+
+// viscosity_and_rate with eight pairs to a vector: the two groups of four in the halves, each half the
+// four-lane operations of a group, added to the four-lane sums low half first: the same bytes, with the
+// transposes (which bound the four-lane loop on Zen 3's shuffle units) and the arithmetic halved. A list
+// with an odd number of groups ends with one group of four.
+RIVULET_AVX2 inline float viscosity_and_rate_avx2(const DfsphContext& c, const DfsphChunkLists& l,
+                                                  std::size_t i, std::span<const float> v4, float eps2,
+                                                  float a[3]) {
+    const float* const x4 = c.x4.data();
+    const float* const v = v4.data();
+    const __m256 xi = _mm256_set1_ps(x4[4 * i]), yi = _mm256_set1_ps(x4[4 * i + 1]),
+                 zi = _mm256_set1_ps(x4[4 * i + 2]);
+    const __m256 vxi = _mm256_set1_ps(v[4 * i]), vyi = _mm256_set1_ps(v[4 * i + 1]),
+                 vzi = _mm256_set1_ps(v[4 * i + 2]);
+    const __m256 e2 = _mm256_set1_ps(eps2);
+    __m128 ax = _mm_setzero_ps(), ay = ax, az = ax, rate = ax;
+    std::uint32_t p = c.pair_begin[i];
+    const std::uint32_t end = c.pair_end[i];
+    for (; p + 4 < end; p += 8) {  // both groups hold pairs (the list's end is not padded)
+        const DfsphPair* const q = &l.pairs[p];
+        std::size_t j[8];
+        for (int k = 0; k < 8; ++k) j[k] = 4 * std::size_t(q[k].j);
+        __m256 xj, yj, zj, vxj, vyj, vzj;
+        columns3_avx2(two_records(x4, j[0], j[4]), two_records(x4, j[1], j[5]), two_records(x4, j[2], j[6]),
+                      two_records(x4, j[3], j[7]), xj, yj, zj);
+        columns3_avx2(two_records(v, j[0], j[4]), two_records(v, j[1], j[5]), two_records(v, j[2], j[6]),
+                      two_records(v, j[3], j[7]), vxj, vyj, vzj);
+        // The factors: (f0 j0 f1 j1 f2 j2 f3 j3) and the next four, even lanes, halves in order.
+        const __m256 p0 = _mm256_loadu_ps(reinterpret_cast<const float*>(q));
+        const __m256 p1 = _mm256_loadu_ps(reinterpret_cast<const float*>(q + 4));
+        const __m256 f =
+            _mm256_castpd_ps(_mm256_permute4x64_pd(_mm256_castps_pd(_mm256_shuffle_ps(p0, p1, 0x88)), 0xd8));
+        const __m256 dx = _mm256_sub_ps(xi, xj), dy = _mm256_sub_ps(yi, yj), dz = _mm256_sub_ps(zi, zj);
+        const __m256 r2 =
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+        const __m256 vr = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_sub_ps(vxi, vxj), dx),
+                                                      _mm256_mul_ps(_mm256_sub_ps(vyi, vyj), dy)),
+                                        _mm256_mul_ps(_mm256_sub_ps(vzi, vzj), dz));
+        add_halves(rate, _mm256_mul_ps(f, vr));
+        const __m256 s = _mm256_div_ps(vr, _mm256_add_ps(r2, e2));
+        const __m256 tx = _mm256_mul_ps(s, _mm256_mul_ps(f, dx)), ty = _mm256_mul_ps(s, _mm256_mul_ps(f, dy)),
+                     tz = _mm256_mul_ps(s, _mm256_mul_ps(f, dz));
+        // Each sum takes its low half, then its high half: pair order, as the four-lane loop.
+        add_halves(ax, tx), add_halves(ay, ty), add_halves(az, tz);
+    }
+    if (p < end) {  // the last group of four, as viscosity_and_rate's loop
+        const DfsphPair* const q = &l.pairs[p];
+        const std::size_t j0 = 4 * std::size_t(q[0].j), j1 = 4 * std::size_t(q[1].j),
+                          j2 = 4 * std::size_t(q[2].j), j3 = 4 * std::size_t(q[3].j);
+        simd::F4 xj, yj, zj, vxj, vyj, vzj;
+        simd::columns3(simd::load(x4 + j0), simd::load(x4 + j1), simd::load(x4 + j2), simd::load(x4 + j3), xj,
+                       yj, zj);
+        simd::columns3(simd::load(v + j0), simd::load(v + j1), simd::load(v + j2), simd::load(v + j3), vxj,
+                       vyj, vzj);
+        const simd::F4 lo_x{_mm256_castps256_ps128(xi)}, lo_y{_mm256_castps256_ps128(yi)},
+            lo_z{_mm256_castps256_ps128(zi)};
+        const simd::F4 lo_vx{_mm256_castps256_ps128(vxi)}, lo_vy{_mm256_castps256_ps128(vyi)},
+            lo_vz{_mm256_castps256_ps128(vzi)};
+        const simd::F4 dx = lo_x - xj, dy = lo_y - yj, dz = lo_z - zj;
+        const simd::F4 r2 = dx * dx + dy * dy + dz * dz;
+        const simd::F4 vr = (lo_vx - vxj) * dx + (lo_vy - vyj) * dy + (lo_vz - vzj) * dz;
+        const simd::F4 f = simd::make(q[0].f, q[1].f, q[2].f, q[3].f);
+        rate = (simd::F4{rate} + f * vr).v;
+        const simd::F4 s4 = vr / (r2 + simd::splat(eps2));
+        ax = (simd::F4{ax} + s4 * (f * dx)).v;
+        ay = (simd::F4{ay} + s4 * (f * dy)).v;
+        az = (simd::F4{az} + s4 * (f * dz)).v;
+    }
+    a[0] = simd::sum({ax}), a[1] = simd::sum({ay}), a[2] = simd::sum({az});
+    return simd::sum({rate});
+}
+#endif
+
 // A residual's new total: relaxed Jacobi's max(k_total + omega r alpha, 0), or with Chebyshev weight
 // w != 1 that extrapolated from the total an iteration back (k_total - k: k still holds the change last
 // applied), clamped at 0 again. The change goes to k; returns the error's share max(r, 0) dt.
@@ -165,6 +263,7 @@ RIVULET_INLINE void correct_pass(const DfsphContext& c, std::size_t chunk, std::
     }
 }
 
+template <bool kAvx2>
 RIVULET_INLINE DfsphPredictSums predict_pass(const DfsphContext& c, std::size_t chunk, std::size_t begin,
                                              std::size_t end, float dt, float nu, float h,
                                              const float gravity[3], std::span<const float> v4,
@@ -177,7 +276,14 @@ RIVULET_INLINE DfsphPredictSums predict_pass(const DfsphContext& c, std::size_t 
     for (std::size_t i = begin; i < end; ++i) {
         const float* const vi = &v4[4 * i];
         float a[3];
-        const float rate = viscosity_and_rate(c, l, i, v4, eps2, a) + wall_rate(c, i, vi);
+        float rate = 0.0f;
+#if defined(__x86_64__) && defined(__GNUC__)
+        if constexpr (kAvx2)
+            rate = viscosity_and_rate_avx2(c, l, i, v4, eps2, a);
+        else
+#endif
+            rate = viscosity_and_rate(c, l, i, v4, eps2, a);
+        rate += wall_rate(c, i, vi);
         sums.divergence_error += relax_divergence(c, i, rate, dt, check, 1.0f);  // the solve's first look
         const float px = vi[0] + dt * (a[0] * scale + gravity[0]);
         const float py = vi[1] + dt * (a[1] * scale + gravity[1]);
@@ -221,7 +327,7 @@ RIVULET_INLINE DfsphPredictSums predict_pass(const DfsphContext& c, std::size_t 
 predict_avx2(const DfsphContext& c, std::size_t chunk, std::size_t begin, std::size_t end, float dt, float nu,
              float h, const float gravity[3], std::span<const float> v4, std::span<const float> k_warm,
              const DfsphDivergenceCheck& check, const DfsphVelocities& out) {
-    return predict_pass(c, chunk, begin, end, dt, nu, h, gravity, v4, k_warm, check, out);
+    return predict_pass<true>(c, chunk, begin, end, dt, nu, h, gravity, v4, k_warm, check, out);
 }
 #endif
 
@@ -264,7 +370,7 @@ DfsphPredictSums dfsph_predict(const DfsphContext& c, std::size_t chunk, std::si
 #if defined(__x86_64__) && defined(__GNUC__)
     if (cpu_has_avx2()) return predict_avx2(c, chunk, begin, end, dt, nu, h, gravity, v4, k_warm, check, out);
 #endif
-    return predict_pass(c, chunk, begin, end, dt, nu, h, gravity, v4, k_warm, check, out);
+    return predict_pass<false>(c, chunk, begin, end, dt, nu, h, gravity, v4, k_warm, check, out);
 }
 
 }  // namespace rivulet
