@@ -87,8 +87,8 @@ class SphSimulation {
     };
 
     // Allocates every buffer for up to max_particles; throws std::invalid_argument on a bad desc.
-    // `chunks` is the number of pieces each parallel phase is cut into: 0 picks one per 1024 particles
-    // of max_particles (1 to 64: 16 threads get 23 chunks at 24k). It never depends on the thread count.
+    // `chunks` is the number of pieces each parallel phase is cut into: 0 picks one per 512 particles
+    // of max_particles (1 to 64: 45 chunks at 24k). It never depends on the thread count.
     SphSimulation(const SphDesc& desc, std::size_t max_particles, std::size_t chunks = 0);
 
     // Fills `ps` (resized; must have capacity for sph_seed_count(desc)) with the desc's initial fluid,
