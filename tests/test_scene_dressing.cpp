@@ -440,6 +440,53 @@ TEST(Shadows, ParticlesCastThemAsInstancedSpheresAndAsSprites) {
               empty.at_world(t.scene.camera, g + across * (1.5f * t.radius)));
 }
 
+// Marching slices leaves its mesh out of the shadow pass and gives its particles instead
+// (FrameView::mesh_casts_shadow): a drop's mesh, a sphere of the particle's radius around its centre,
+// then casts the shadow its particle does, and with neither nothing darkens the ground.
+TEST(Shadows, AMeshMayLeaveItsShadowToItsParticles) {
+    ShadowScene t;
+    Renderer r(RenderSettings{kW, kH});
+    r.set_scene(t.scene);
+    r.render(FrameView{});
+    const Picture empty(r);
+    const SphereMesh ball = sphere_mesh(t.center, t.radius);
+    FrameView by_mesh;
+    by_mesh.mesh = {ball.vertices, ball.indices};
+    r.render(by_mesh);
+    const Picture mesh_shadow(r);
+
+    FrameView unshadowed = by_mesh;
+    unshadowed.mesh_casts_shadow = false;
+    r.render(unshadowed);
+    const Picture none(r);
+    const float centre[3] = {t.center.x, t.center.y, t.center.z};
+    FrameView by_particle = unshadowed;
+    by_particle.sprites = {std::span(centre, 1), std::span(centre + 1, 1), std::span(centre + 2, 1)};
+    by_particle.sphere_radius = t.radius;
+    r.render(by_particle);
+    keep_picture(r, "particle_shadow");
+    const Picture particle_shadow(r);
+
+    const Vec3f L = key_light(t.scene.camera);
+    const Vec3f g = t.center - L * (t.center.y / L.y);
+    EXPECT_EQ(none.at_world(t.scene.camera, g), empty.at_world(t.scene.camera, g));
+    EXPECT_LT(10 * mesh_shadow.at_world(t.scene.camera, g).sum(),
+              9 * empty.at_world(t.scene.camera, g).sum());
+    // Over the ground (the sphere's own pixels left out), the two shadows differ at most along their rim.
+    int shadowed = 0, differ = 0;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            if (ray_hits_sphere(t.scene.camera.eye, pixel_ray(t.scene.camera, x, y), t.center,
+                                t.radius + 0.02f))
+                continue;
+            const Rgb a = mesh_shadow.at(x, y), b = particle_shadow.at(x, y);
+            shadowed += !(a == empty.at(x, y));
+            differ += std::abs(a.sum() - b.sum()) > 24;
+        }
+    EXPECT_GT(shadowed, 200);
+    EXPECT_LT(differ, shadowed / 10) << differ << " of " << shadowed;
+}
+
 TEST(Shadows, FlatLitSurfacesHaveNoAcneAndContactShadowsStayAttached) {
     Renderer r(RenderSettings{kW, kH});
     SceneDesc scene = open_scene({-0.8f, 1.6f, 3.0f}, {0, 0.2f, 0});

@@ -53,6 +53,10 @@ struct FrameView {
     std::span<const float> sphere_centers;  // xyz per isolated particle, drawn as instanced low-res spheres
     float sphere_radius = 0;
     ParticleSpritesView sprites;  // drawn by the screen-space fluid pass, as spheres of sphere_radius
+    // Whether the shadow pass draws the mesh. A method that gives its particles as `sprites` for the
+    // shadow may leave the mesh out of it: the shadow pass shades vertices on the render thread alone,
+    // and a splashing frame's mesh has about 40 times the vertices of its particles.
+    bool mesh_casts_shadow = true;
     // Isolated particles the screen-space fluid pass draws as small bright sprites after the water (not
     // part of its depth or thickness); empty unless the method splits spray off.
     ParticleSpritesView spray;

@@ -119,6 +119,7 @@ struct Renderer::Impl {
     struct Uploaded {
         bool pool = false;
         GLsizei cylinder_draws = 0, mesh_indices = 0, spheres = 0, sprites = 0;
+        bool mesh_casts_shadow = true;
         float radius = 0;
     } up;
 
@@ -485,7 +486,7 @@ struct Renderer::Impl {
     }
 
     // `spheres`: the isolated spheres as instanced meshes too (the shadow pass draws them as points).
-    void draw_fluid(GLuint program, GLint scale, GLint clip, bool spheres) {
+    void draw_fluid(GLuint program, GLint scale, GLint clip, bool spheres, bool mesh = true) {
         // Only programs that write gl_ClipDistance (clip >= 0) may have the planes enabled.
         const bool clipping = clip_fluid && clip >= 0;
         glProgramUniform1f(program, scale, 1.0f);
@@ -499,7 +500,7 @@ struct Renderer::Impl {
             glMultiDrawElementsBaseVertex(GL_TRIANGLES, draw_counts.data(), GL_UNSIGNED_INT,
                                           draw_offsets.data(), up.cylinder_draws, draw_base_vertices.data());
         }
-        if (up.mesh_indices > 0) {
+        if (mesh && up.mesh_indices > 0) {
             glBindVertexArray(mesh_vao);
             glDrawElements(GL_TRIANGLES, up.mesh_indices, GL_UNSIGNED_INT, nullptr);
         }
@@ -527,7 +528,7 @@ struct Renderer::Impl {
         draw_movers();
         draw_tank_range(tank_frame);
         glProgramUniform1i(shadow.id, shadow.water, 1);
-        draw_fluid(shadow.id, shadow.scale, shadow.clip, false);
+        draw_fluid(shadow.id, shadow.scale, shadow.clip, false, up.mesh_casts_shadow);
         // Particles as round points: one vertex each instead of a sphere's 42 (vertices are shaded on this
         // thread alone, and a dam break has tens of thousands of particles).
         if (up.sprites + up.spheres > 0) {
@@ -662,6 +663,7 @@ struct Renderer::Impl {
         mark(nullptr);
         up = {};
         up.radius = frame.sphere_radius;
+        up.mesh_casts_shadow = frame.mesh_casts_shadow;
         upload_pool(frame.pool);
         upload_cylinders(frame.cylinders);
         upload_mesh(frame.mesh);
