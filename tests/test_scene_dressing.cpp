@@ -341,16 +341,25 @@ struct ShadowScene {
     float radius = 0.25f;
 };
 
-TEST(Shadows, AWaterSphereHalfDarkensTheGroundWhereTheLightSaysAndNowhereElse) {
+// The shadow scene's renderer, its picture without fluid, and a water sphere's mesh.
+struct SphereShadow {
     ShadowScene t;
-    Renderer r(RenderSettings{kW, kH});
-    r.set_scene(t.scene);
-    r.render(FrameView{});
-    const Picture empty(r);
-    const SphereMesh ball = sphere_mesh(t.center, t.radius);
-    FrameView frame;
-    frame.mesh = {ball.vertices, ball.indices};
-    r.render(frame);
+    Renderer r{RenderSettings{kW, kH}};
+    Picture empty = (r.set_scene(t.scene), r.render(FrameView{}), Picture(r));
+    SphereMesh ball = sphere_mesh(t.center, t.radius);
+    FrameView frame() const {
+        FrameView f;
+        f.mesh = {ball.vertices, ball.indices};
+        return f;
+    }
+};
+
+TEST(Shadows, AWaterSphereHalfDarkensTheGroundWhereTheLightSaysAndNowhereElse) {
+    SphereShadow s;
+    const ShadowScene& t = s.t;
+    Renderer& r = s.r;
+    const Picture& empty = s.empty;
+    r.render(s.frame());
     keep_picture(r, "sphere_shadow");
     const Picture shaded(r);
 
@@ -444,28 +453,22 @@ TEST(Shadows, ParticlesCastThemAsInstancedSpheresAndAsSprites) {
 // (FrameView::mesh_casts_shadow): a drop's mesh, a sphere of the particle's radius around its centre,
 // then casts the shadow its particle does, and with neither nothing darkens the ground.
 TEST(Shadows, AMeshMayLeaveItsShadowToItsParticles) {
-    ShadowScene t;
-    Renderer r(RenderSettings{kW, kH});
-    r.set_scene(t.scene);
-    r.render(FrameView{});
-    const Picture empty(r);
-    const SphereMesh ball = sphere_mesh(t.center, t.radius);
-    FrameView by_mesh;
-    by_mesh.mesh = {ball.vertices, ball.indices};
-    r.render(by_mesh);
-    const Picture mesh_shadow(r);
+    SphereShadow sphere;
+    const ShadowScene& t = sphere.t;
+    sphere.r.render(sphere.frame());
+    const Picture mesh_shadow(sphere.r), &empty = sphere.empty;
 
-    FrameView unshadowed = by_mesh;
+    FrameView unshadowed = sphere.frame();
     unshadowed.mesh_casts_shadow = false;
-    r.render(unshadowed);
-    const Picture none(r);
+    sphere.r.render(unshadowed);
+    const Picture none(sphere.r);
     const float centre[3] = {t.center.x, t.center.y, t.center.z};
     FrameView by_particle = unshadowed;
     by_particle.sprites = {std::span(centre, 1), std::span(centre + 1, 1), std::span(centre + 2, 1)};
     by_particle.sphere_radius = t.radius;
-    r.render(by_particle);
-    keep_picture(r, "particle_shadow");
-    const Picture particle_shadow(r);
+    sphere.r.render(by_particle);
+    keep_picture(sphere.r, "particle_shadow");
+    const Picture particle_shadow(sphere.r);
 
     const Vec3f L = key_light(t.scene.camera);
     const Vec3f g = t.center - L * (t.center.y / L.y);

@@ -2,8 +2,8 @@
 // Marching slices (Janisz §3.2) as the frame pipeline's surface: the jobs of slices_jobs.h writing one
 // welded triangle mesh per slot, and the particles' centres (slices.casters) that the shadow pass draws
 // as round points instead of the mesh.
+#include "runtime/lib/position_staging.h"
 #include "runtime/lib/surface_system.h"
-#include "systems/particles/aligned_array.h"
 #include "systems/slices/slices_extractor.h"
 #include "systems/slices/surface_mesh.h"
 
@@ -24,14 +24,10 @@ class SlicesSurface final : public SurfaceSystem {
 
   private:
     static constexpr std::size_t kStageChunk = 16384;  // particles per staging item
-    struct Staged {
-        AlignedArray<float> x, y, z;
-        std::size_t count = 0;
-    };
     SlicesExtractor extractor_;
     std::size_t max_particles_;
     std::array<SurfaceMesh, kFrameSlots> mesh_;
-    std::array<Staged, kFrameSlots> casters_;
+    std::array<StagedPositions, kFrameSlots> casters_;
 };
 
 }  // namespace rivulet

@@ -15,8 +15,7 @@ VolumeSurface::VolumeSurface(const VolumeSettings& settings, const VolumeRaycast
     if (const std::string problem = raycast.validate(); !problem.empty())
         throw std::invalid_argument(problem);
     for (DensityVolume& v : volume_) builder_.prepare(v);
-    for (Staged& s : staged_)
-        s.x.reserve(max_particles), s.y.reserve(max_particles), s.z.reserve(max_particles);
+    for (StagedPositions& s : staged_) s.reserve(max_particles);
 }
 
 FrameGraph::JobId VolumeSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
@@ -24,15 +23,9 @@ FrameGraph::JobId VolumeSurface::add_jobs(FrameGraph& graph, std::function<Const
     const FrameGraph::JobId splat = add_volume_jobs(
         graph, builder_, positions, [this, slot]() -> DensityVolume& { return volume_[slot()]; }, {after},
         volumes_);
-    return graph.parallel(
-        "volume.stage", [positions] { return staging_items(positions().size(), kStageChunk); },
-        [this, positions, slot](std::size_t c) {
-            Staged& s = staged_[slot()];
-            const std::size_t n = stage_positions_chunk(positions(), c, kStageChunk, max_particles_,
-                                                        s.x.data(), s.y.data(), s.z.data());
-            if (c == 0) s.count = n;
-        },
-        {splat});
+    return add_position_staging(
+        graph, "volume.stage", positions, [this, slot]() -> StagedPositions& { return staged_[slot()]; },
+        max_particles_, kStageChunk, splat);
 }
 
 SurfaceStats VolumeSurface::stats(int slot) const {
@@ -53,8 +46,7 @@ void VolumeSurface::fill_view(int slot, FrameView& view) const {
     view.volume = volume_[slot].view();
     // The Renderer's shadow pass draws these as round points; no screen-space pass is set, so nothing else
     // draws them.
-    const Staged& s = staged_[slot];
-    view.sprites = {s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)};
+    view.sprites = staged_[slot].view();
 }
 
 }  // namespace rivulet

@@ -6,8 +6,8 @@
 // mesh is made.
 #include <utility>
 
+#include "runtime/lib/position_staging.h"
 #include "runtime/lib/surface_system.h"
-#include "systems/particles/aligned_array.h"
 #include "systems/render/volume_pass.h"
 #include "systems/volume/volume_builder.h"
 
@@ -37,16 +37,12 @@ class VolumeSurface final : public SurfaceSystem {
     const DensityVolume& volume(int slot) const { return volume_[slot]; }
 
   private:
-    struct Staged {
-        AlignedArray<float> x, y, z;
-        std::size_t count = 0;
-    };
     VolumeBuilder builder_;
     std::function<ParticleVolumes()> volumes_;  // none: V from the radius
     VolumeRaycastSettings raycast_;
     std::size_t max_particles_;
     std::array<DensityVolume, kFrameSlots> volume_;
-    std::array<Staged, kFrameSlots> staged_;
+    std::array<StagedPositions, kFrameSlots> staged_;
 };
 
 }  // namespace rivulet
