@@ -13,6 +13,8 @@
 
 namespace rivulet {
 
+inline constexpr std::size_t kStagingChunk = 16384;  // particles per staging item
+
 // Items of a staging job of n particles in chunks of `chunk` (at least one, so an empty frame still
 // records its count).
 inline std::size_t staging_items(std::size_t n, std::size_t chunk) {
@@ -43,13 +45,13 @@ struct StagedPositions {
 inline FrameGraph::JobId add_position_staging(FrameGraph& graph, std::string name,
                                               std::function<ConstPositions()> positions,
                                               std::function<StagedPositions&()> target, std::size_t max,
-                                              std::size_t chunk, FrameGraph::JobId after) {
+                                              FrameGraph::JobId after) {
     return graph.parallel(
-        std::move(name), [positions, chunk] { return staging_items(positions().size(), chunk); },
-        [positions, target, max, chunk](std::size_t c) {
+        std::move(name), [positions] { return staging_items(positions().size(), kStagingChunk); },
+        [positions, target, max](std::size_t c) {
             StagedPositions& s = target();
             const std::size_t n =
-                stage_positions_chunk(positions(), c, chunk, max, s.x.data(), s.y.data(), s.z.data());
+                stage_positions_chunk(positions(), c, kStagingChunk, max, s.x.data(), s.y.data(), s.z.data());
             if (c == 0) s.count = n;
         },
         {after});

@@ -37,11 +37,11 @@ ScreenSurface::ScreenSurface(const ScreenFluidSettings& settings, std::size_t ma
 FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                           std::function<int()> slot, FrameGraph::JobId after) {
     const FrameGraph::JobId stage = graph.parallel(
-        "screen.stage", [positions] { return staging_items(positions().size(), kChunk); },
+        "screen.stage", [positions] { return staging_items(positions().size(), kStagingChunk); },
         [this, positions, slot](std::size_t c) {
             Staged& s = staged_[slot()];
-            const std::size_t n = stage_positions_chunk(positions(), c, kChunk, max_particles_, s.x.data(),
-                                                        s.y.data(), s.z.data());
+            const std::size_t n = stage_positions_chunk(positions(), c, kStagingChunk, max_particles_,
+                                                        s.x.data(), s.y.data(), s.z.data());
             if (c == 0) s.count = n;  // every item writes its own range; the count is the same for all
         },
         {after});

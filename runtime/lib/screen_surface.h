@@ -15,7 +15,6 @@ namespace rivulet {
 
 class ScreenSurface final : public SurfaceSystem {
   public:
-    static constexpr std::size_t kChunk = 16384;  // particles per staging item
     // The spray jobs' chunks number at most kMaxSprayChunks per frame: every chunk keeps a row of bucket
     // counts, so their number bounds the scratch and the prefix pass.
     static constexpr std::size_t kMaxSprayChunks = 32;

@@ -20,7 +20,7 @@ FrameGraph::JobId SlicesSurface::add_jobs(FrameGraph& graph, std::function<Const
             .stage;
     return add_position_staging(
         graph, "slices.casters", std::move(positions),
-        [this, slot]() -> StagedPositions& { return casters_[slot()]; }, max_particles_, kStageChunk, stage);
+        [this, slot]() -> StagedPositions& { return casters_[slot()]; }, max_particles_, stage);
 }
 
 SurfaceStats SlicesSurface::stats(int slot) const {

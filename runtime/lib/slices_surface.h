@@ -23,7 +23,6 @@ class SlicesSurface final : public SurfaceSystem {
     void fill_view(int slot, FrameView& view) const override;
 
   private:
-    static constexpr std::size_t kStageChunk = 16384;  // particles per staging item
     SlicesExtractor extractor_;
     std::size_t max_particles_;
     std::array<SurfaceMesh, kFrameSlots> mesh_;

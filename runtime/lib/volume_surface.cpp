@@ -25,7 +25,7 @@ FrameGraph::JobId VolumeSurface::add_jobs(FrameGraph& graph, std::function<Const
         volumes_);
     return add_position_staging(
         graph, "volume.stage", positions, [this, slot]() -> StagedPositions& { return staged_[slot()]; },
-        max_particles_, kStageChunk, splat);
+        max_particles_, splat);
 }
 
 SurfaceStats VolumeSurface::stats(int slot) const {

@@ -15,8 +15,6 @@ namespace rivulet {
 
 class VolumeSurface final : public SurfaceSystem {
   public:
-    static constexpr std::size_t kStageChunk = 16384;  // particles per staging item
-
     // Throws std::invalid_argument on bad settings.
     VolumeSurface(const VolumeSettings& settings, const VolumeRaycastSettings& raycast,
                   std::size_t max_particles);
