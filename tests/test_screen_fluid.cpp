@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "jobs/counter_rng.h"
+#include "runtime/lib/frame_graph.h"
+#include "runtime/lib/screen_surface.h"
 #include "support/test_support.h"
 #include "systems/render/camera.h"
 #include "systems/render/renderer.h"
@@ -357,9 +359,110 @@ TEST(ScreenFluid, PixelsWithoutFluidKeepTheSceneExactly) {
     EXPECT_EQ(changed_inside, inside);
 }
 
+TEST(ScreenFluid, DepthSpheresTakeTheSpacingWithinOneToTwoRadii) {
+    EXPECT_EQ(screen_depth_radius(0.1f, 0.0f), 0.1f);
+    EXPECT_EQ(screen_depth_radius(0.1f, 0.05f), 0.1f);  // denser than the radius: as drawn
+    EXPECT_EQ(screen_depth_radius(0.1f, 0.15f), 0.15f);
+    EXPECT_EQ(screen_depth_radius(0.1f, 0.2f), 0.2f);
+    EXPECT_EQ(screen_depth_radius(0.1f, 0.5f), 0.2f);  // separate drops stay apart
+    EXPECT_EQ(screen_depth_radius(0.1f, std::nanf("")), 0.1f);
+}
+
+namespace {
+
+// Two layers of a cubic lattice of spacing 2 r facing the camera (SPH: the radius is half the
+// spacing), the front layer's centres at z = 0.
+Particles spaced_slab(float radius) {
+    Particles p;
+    for (int layer = 0; layer < 2; ++layer)
+        for (int iy = 0; iy < 12; ++iy)
+            for (int ix = 0; ix < 12; ++ix)
+                p.add({2 * radius * (float(ix) - 5.5f), 0.5f + 2 * radius * (float(iy) - 5.5f),
+                       -2 * radius * float(layer)});
+    return p;
+}
+
+}  // namespace
+
+TEST(ScreenFluid, SpacedParticlesShowNoLayerBehindTheirSurface) {
+    const float radius = 0.05f;
+    const Particles p = spaced_slab(radius);
+    const double centres = 3.0;  // the front layer's depth along the view axis (the eye is at z = 3)
+    ScreenFluidSettings s;
+    s.filter_iterations = 0;
+    const auto raw_depth = [&](float spacing) {
+        auto r = make_renderer(s);
+        FrameView v;
+        v.sphere_radius = radius;
+        v.sprites = p.view();
+        v.sprite_spacing = spacing;
+        r->render(v);
+        return read(*r, ScreenFluidBuffer::kRawDepth);
+    };
+    const std::vector<float> plain = raw_depth(0), spaced = raw_depth(2 * radius);
+    // The slab's inner pixels, three spacings in from its edges.
+    int n = 0, through_plain = 0, through_spaced = 0;
+    double sum = 0, lo = 1e9, hi = -1e9;
+    for (int j = kH / 2 - 20; j < kH / 2 + 20; ++j)
+        for (int i = kW / 2 - 20; i < kW / 2 + 20; ++i) {
+            const std::size_t k = std::size_t(j) * kW + i;
+            ++n;
+            through_plain += plain[k] == 0.0f || plain[k] > centres ? 1 : 0;
+            through_spaced += spaced[k] == 0.0f || spaced[k] > centres ? 1 : 0;
+            const double out = centres - spaced[k];  // how far in front of the centres, in world units
+            sum += out, lo = std::min(lo, out), hi = std::max(hi, out);
+        }
+    // Spheres of the radius leave a fifth of each layer open (pi / 4 covered): about 8 % of the rays here
+    // reach the layer behind or miss both. Spheres of the spacing leave nothing open.
+    EXPECT_GT(through_plain, n / 20);
+    EXPECT_EQ(through_spaced, 0);
+    // The surface one radius in front of the centres on average (0.82 r over the lattice's squares),
+    // its dips between centres 0.41 r in front, its tops at one radius.
+    EXPECT_NEAR(sum / n / radius, 0.82, 0.04);
+    EXPECT_GT(lo / radius, 0.38);
+    EXPECT_LT(hi / radius, 1.01);
+}
+
 }  // namespace rivulet
 
 namespace rivulet {
+
+TEST(ScreenFluid, TheSurfaceMeasuresItsParticlesSpacingOnceEnoughOfThemCome) {
+    const float radius = 0.02f;
+    // A block of 12 x 12 x 8 particles (1,152: enough to fix the spacing) at SPH spacing 2 r.
+    const auto block = [](float spacing, int layers) {
+        Particles p;
+        for (int k = 0; k < layers; ++k)
+            for (int j = 0; j < 12; ++j)
+                for (int i = 0; i < 12; ++i)
+                    p.add({spacing * float(i), spacing * float(j), spacing * float(k)});
+        return p;
+    };
+    ScreenFluidSettings s;
+    ScreenSurface surface(s, 12 * 12 * 8, radius);
+    const auto frame = [&](const Particles& p) {
+        FrameGraph graph;
+        const FrameGraph::JobId begin = graph.serial("begin", [] {});
+        surface.add_jobs(
+            graph,
+            [&p] {
+                return ConstPositions{p.x, p.y, p.z};
+            },
+            [] { return 0; }, begin);
+        graph.run();
+        FrameView v;
+        surface.fill_view(0, v);
+        return v.sprite_spacing;
+    };
+    // Fewer than kSpacingSamples: measured for that frame only.
+    EXPECT_NEAR(frame(block(1.5f * radius, 4)), 1.5f * radius, 0.05f * radius);
+    Particles broken = block(1.5f * radius, 4);
+    broken.x[7] = std::nanf("");
+    EXPECT_EQ(frame(broken), 0.0f);  // not all finite: unknown, the spheres stay as they are
+    const float fixed = frame(block(2 * radius, 8));
+    EXPECT_NEAR(fixed, 2 * radius, 0.05f * radius);
+    EXPECT_EQ(frame(block(1.5f * radius, 8)), fixed);  // kept from then on
+}
 
 TEST(ScreenFluid, RunRecordsAndReplaysTheScreenMethod) {
     using rivulet::test::run_cli;

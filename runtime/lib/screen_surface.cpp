@@ -1,11 +1,14 @@
 #include "runtime/lib/screen_surface.h"
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
 #include "jobs/chunk_prefix.h"
 #include "jobs/mesh_hash.h"
+#include "jobs/particle_spacing.h"
 #include "runtime/lib/position_staging.h"
 #include "systems/render/renderer.h"
 
@@ -13,11 +16,16 @@ namespace rivulet {
 
 ScreenSurface::ScreenSurface(const ScreenFluidSettings& settings, std::size_t max_particles,
                              float particle_radius)
-    : settings_(settings), max_particles_(max_particles) {
+    : settings_(settings), max_particles_(max_particles), radius_(particle_radius) {
     if (const std::string problem = settings.validate(); !problem.empty())
         throw std::invalid_argument(problem);
     for (Staged& s : staged_)
         s.x.reserve(max_particles), s.y.reserve(max_particles), s.z.reserve(max_particles);
+    if (particle_radius > 0.0f) {
+        spacing_heads_.reserve(cell_hash_table_size(max_particles) + 1);
+        spacing_order_.reserve(std::max<std::size_t>(max_particles, 1));
+        spacing_values_.reserve(kSpacingSamples);
+    }
     if (!spray()) return;
     if (!(particle_radius > 0.0f))
         throw std::invalid_argument("screen-space spray needs the scene's particle radius");
@@ -45,7 +53,38 @@ FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<Const
             if (c == 0) s.count = n;  // every item writes its own range; the count is the same for all
         },
         {after});
-    return spray() ? add_spray_jobs(graph, slot, stage) : stage;
+    const FrameGraph::JobId spacing = graph.serial("screen.spacing",
+                                                   [this, slot] {
+                                                       const int k = slot();
+                                                       if (!spacing_fixed_) {
+                                                           fixed_spacing_ = measure_spacing(staged_[k]);
+                                                           spacing_fixed_ =
+                                                               staged_[k].count >= kSpacingSamples;
+                                                       }
+                                                       spacing_[k] = fixed_spacing_;
+                                                   },
+                                                   {stage});
+    return spray() ? add_spray_jobs(graph, slot, spacing) : spacing;
+}
+
+float ScreenSurface::measure_spacing(const Staged& s) {
+    if (!(radius_ > 0.0f) || s.count < 2) return 0.0f;
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const float* axes[3] = {s.x.data(), s.y.data(), s.z.data()};
+    for (int a = 0; a < 3; ++a)
+        for (std::size_t i = 0; i < s.count; ++i) {
+            const float v = axes[a][i];
+            if (!std::isfinite(v)) return 0.0f;
+            lo[a] = std::min(lo[a], v), hi[a] = std::max(hi[a], v);
+        }
+    // particle_spacing hashes cells of a quarter of `cap`: their indices must stay below 2^30.
+    const float cap = 2.0f * radius_;
+    for (int a = 0; a < 3; ++a)
+        if (double(hi[a]) - double(lo[a]) >= 0x1p29 * (double(cap) / 4.0)) return 0.0f;
+    const ConstPositions p{s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)};
+    return particle_spacing(p, lo, cap, kSpacingSamples,
+                            {spacing_heads_.span(cell_hash_table_size(s.count) + 1),
+                             spacing_order_.span(s.count), spacing_values_.span(kSpacingSamples)});
 }
 
 ScreenSurface::SprayChunk ScreenSurface::spray_chunk(const Staged& s, std::size_t c) const {
@@ -126,16 +165,17 @@ SurfaceStats ScreenSurface::stats(int slot) const {
 
 std::uint64_t ScreenSurface::output_hash(int slot) const {
     const Staged& s = staged_[slot];
+    const std::uint64_t spacing = std::bit_cast<std::uint32_t>(spacing_[slot]);  // it shapes the picture
     if (!spray()) {
-        const std::uint64_t h[3] = {hash_bytes(s.x.data(), s.count * sizeof(float)),
+        const std::uint64_t h[4] = {hash_bytes(s.x.data(), s.count * sizeof(float)),
                                     hash_bytes(s.y.data(), s.count * sizeof(float)),
-                                    hash_bytes(s.z.data(), s.count * sizeof(float))};
+                                    hash_bytes(s.z.data(), s.count * sizeof(float)), spacing};
         return hash_bytes(h, sizeof h);
     }
     // The water and the spray lie end to end; the boundary between them is hashed too.
-    const std::uint64_t h[4] = {hash_bytes(s.sx.data(), s.count * sizeof(float)),
+    const std::uint64_t h[5] = {hash_bytes(s.sx.data(), s.count * sizeof(float)),
                                 hash_bytes(s.sy.data(), s.count * sizeof(float)),
-                                hash_bytes(s.sz.data(), s.count * sizeof(float)), s.fluid};
+                                hash_bytes(s.sz.data(), s.count * sizeof(float)), s.fluid, spacing};
     return hash_bytes(h, sizeof h);
 }
 
@@ -145,6 +185,7 @@ void ScreenSurface::prepare_renderer(Renderer& renderer) const {
 
 void ScreenSurface::fill_view(int slot, FrameView& view) const {
     const Staged& s = staged_[slot];
+    view.sprite_spacing = spacing_[slot];
     if (!spray()) {
         view.sprites = {s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)};
         view.spray = {};

@@ -3,6 +3,9 @@
 // particle positions into the slot (screen.stage, per chunk); the render thread draws them with the
 // Renderer's screen-space fluid pass. No mesh is made. With spray on, the staged particles are then split
 // by their neighbour counts (jobs/spray_split.h) into the water and the spray the pass draws as sprites.
+// The particles' spacing (jobs/particle_spacing.h), which sets the depth pass's spheres
+// (screen_depth_radius), is measured by screen.spacing on every frame until one has kSpacingSamples
+// particles or more, and kept from then on, as the slices surface's spacing field is.
 #include <algorithm>
 
 #include "jobs/particle_chunks.h"
@@ -18,6 +21,7 @@ class ScreenSurface final : public SurfaceSystem {
     // The spray jobs' chunks number at most kMaxSprayChunks per frame: every chunk keeps a row of bucket
     // counts, so their number bounds the scratch and the prefix pass.
     static constexpr std::size_t kMaxSprayChunks = 32;
+    static constexpr std::uint32_t kSpacingSamples = 1024;  // particles that measure the spacing
 
     // `particle_radius` (the scene's) scales the spray's search distance; spray needs it to be > 0.
     // Throws std::invalid_argument on bad settings.
@@ -51,12 +55,21 @@ class ScreenSurface final : public SurfaceSystem {
         std::size_t at;
     };
     SprayChunk spray_chunk(const Staged& s, std::size_t c) const;
+    // The staged particles' spacing, at most 2 radii (0 where they are too few, too spread out to hash,
+    // or not all finite).
+    float measure_spacing(const Staged& s);
     FrameGraph::JobId add_spray_jobs(FrameGraph& graph, const std::function<int()>& slot,
                                      FrameGraph::JobId after);
 
     ScreenFluidSettings settings_;
     std::size_t max_particles_;
+    float radius_;
     std::array<Staged, kFrameSlots> staged_;
+    std::array<float, kFrameSlots> spacing_{};  // per slot: FrameView::sprite_spacing
+    float fixed_spacing_ = 0;
+    bool spacing_fixed_ = false;
+    AlignedArray<std::uint32_t> spacing_heads_, spacing_order_;  // particle_spacing's workspace
+    AlignedArray<float> spacing_values_;
 
     // Spray scratch, shared by the slots (one frame's jobs run at a time).
     SprayGrid grid_;

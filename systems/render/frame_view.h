@@ -53,6 +53,7 @@ struct FrameView {
     std::span<const float> sphere_centers;  // xyz per isolated particle, drawn as instanced low-res spheres
     float sphere_radius = 0;
     ParticleSpritesView sprites;  // drawn by the screen-space fluid pass, as spheres of sphere_radius
+    float sprite_spacing = 0;     // the sprites' spacing (0: unknown): screen_depth_radius
     // Whether the shadow pass draws the mesh. A method that gives its particles as `sprites` for the
     // shadow may leave the mesh out of it: the shadow pass shades vertices on the render thread alone,
     // and a splashing frame's mesh has about 40 times the vertices of its particles.

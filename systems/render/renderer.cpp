@@ -686,7 +686,7 @@ struct Renderer::Impl {
         mark(&timings.scene);
         draw_water();
         if (screen) {
-            screen->render(frame.sprites, frame.spray, frame.sphere_radius);
+            screen->render(frame.sprites, frame.spray, frame.sphere_radius, frame.sprite_spacing);
             mark(&timings.screen);
         }
         if (volume) {

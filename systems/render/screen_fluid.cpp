@@ -183,7 +183,7 @@ struct ScreenFluidPass::Impl {
     ThicknessTargets thick;  // the chords' sum within their span (thickness_targets.h), then blurred
     Program depth, thickness, close_holes, smoothing, thickness_blur, composite, spray;
     SmoothingUniforms smooth_u;
-    GLint depth_radius = -1, thickness_radius = -1;
+    GLint depth_radius = -1, depth_push = -1, thickness_radius = -1;
     GLint blur_step = -1, blur_sigma = -1, close_holes_jump = -1, close_holes_gap = -1;
     GLint composite_light = -1, composite_absorption = -1, composite_water = -1,
           composite_has_environment = -1;
@@ -227,6 +227,7 @@ struct ScreenFluidPass::Impl {
         spray_water = uniform_location(spray.id, "u_water_color", "spray");
         glProgramUniform1f(spray.id, uniform_location(spray.id, "u_size", "spray"), kSpraySize);
         depth_radius = uniform_location(depth.id, "u_radius", "fluid_depth");
+        depth_push = uniform_location(depth.id, "u_push", "fluid_depth");
         thickness_radius = uniform_location(thickness.id, "u_radius", "fluid_thickness");
         smooth_u.find(smoothing.id);
         blur_step = uniform_location(thickness_blur.id, "u_step", "thickness_blur");
@@ -459,7 +460,7 @@ struct ScreenFluidPass::Impl {
     }
 
     void render(const ParticleSpritesView& particles, const ParticleSpritesView& spray_particles,
-                float radius) {
+                float radius, float spacing) {
         const std::size_t n = particles.size();
         timings = {};
         if ((n == 0 && spray_particles.size() == 0) || radius <= 0) return;
@@ -468,7 +469,7 @@ struct ScreenFluidPass::Impl {
                 throw std::out_of_range("ScreenFluidPass::render: x, y and z differ in length");
         mark(nullptr);
         if (n > 0) {
-            water(particles, radius);
+            water(particles, radius, screen_depth_radius(radius, spacing));
         } else {  // spray alone: no water hides it
             glBindFramebuffer(GL_FRAMEBUFFER, fbo_a);
             glClearColor(0, 0, 0, 0);
@@ -478,7 +479,8 @@ struct ScreenFluidPass::Impl {
         if (spray_particles.size() > 0) draw_spray(spray_particles, radius);
     }
 
-    void water(const ParticleSpritesView& particles, float radius) {
+    // `sphere`: the depth pass's sphere radius (screen_depth_radius), at least `radius`.
+    void water(const ParticleSpritesView& particles, float radius, float sphere) {
         const std::size_t n = particles.size();
         xs.upload(particles.x.data(), n * sizeof(float));
         ys.upload(particles.y.data(), n * sizeof(float));
@@ -496,12 +498,13 @@ struct ScreenFluidPass::Impl {
         glClearDepth(1.0);
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glEnable(GL_DEPTH_TEST);
-        glProgramUniform1f(depth.id, depth_radius, radius);
+        glProgramUniform1f(depth.id, depth_radius, sphere);
+        glProgramUniform1f(depth.id, depth_push, sphere - radius);
         draw_spheres(depth, n);
         glDisable(GL_DEPTH_TEST);
         mark(&timings.depth);
 
-        const std::array<int, 4> box = screen_bounds(particles, radius);
+        const std::array<int, 4> box = screen_bounds(particles, sphere);
         glEnable(GL_SCISSOR_TEST);
         glScissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
         smooth(radius, fill_holes(radius));
@@ -604,12 +607,16 @@ ScreenFluidPass::~ScreenFluidPass() = default;
 void ScreenFluidPass::set_camera(const CameraDesc& camera, Vec3f light_dir) {
     impl_->set_camera(camera, light_dir);
 }
-void ScreenFluidPass::render(const ParticleSpritesView& particles, float radius) {
-    impl_->render(particles, {}, radius);
+float screen_depth_radius(float radius, float spacing) {
+    return spacing > radius ? std::min(spacing, 2.0f * radius) : radius;
 }
-void ScreenFluidPass::render(const ParticleSpritesView& fluid, const ParticleSpritesView& spray,
-                             float radius) {
-    impl_->render(fluid, spray, radius);
+
+void ScreenFluidPass::render(const ParticleSpritesView& particles, float radius, float spacing) {
+    impl_->render(particles, {}, radius, spacing);
+}
+void ScreenFluidPass::render(const ParticleSpritesView& fluid, const ParticleSpritesView& spray, float radius,
+                             float spacing) {
+    impl_->render(fluid, spray, radius, spacing);
 }
 void ScreenFluidPass::set_water(const WaterLook& water) {
     impl_->set_water(water);

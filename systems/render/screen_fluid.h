@@ -64,6 +64,17 @@ struct ScreenFluidTimings {
 // The passes' targets, for tests.
 enum class ScreenFluidBuffer { kRawDepth, kSmoothedDepth, kThickness };
 
+// The radius of the spheres the depth pass draws for particles of `radius` that sit `spacing` apart:
+// the spacing, within [radius, 2 radius] (`radius` where the spacing is unknown, 0, or smaller). SPH
+// particles are spheres of half their spacing, and rays slip between spheres that small, so the depth
+// read as sand, and the smoothing, which keeps a deeper pixel as another surface, left it in streaks.
+// Spheres of the spacing's radius overlap their neighbours; each hit is pushed back along the view by
+// the radii's difference, so a flat surface seen face on stays about one radius outside the outer
+// centres (on a square lattice 0.82 r on average at spacing 2 r, 0.91 r at spacing r, where the spheres
+// are drawn as they are: the tops dip between centres). At most 2 radii, so that separate drops do not
+// merge; outlines grow by the difference.
+float screen_depth_radius(float radius, float spacing);
+
 class ScreenFluidPass {
   public:
     // Allocates its targets for a width x height picture; throws std::runtime_error on a GL failure or
@@ -79,10 +90,13 @@ class ScreenFluidPass {
     void set_environment(unsigned cube_map_texture);
     // Draws `particles` (spheres of `radius`) as water over the picture in the default framebuffer,
     // whose colour and depth are the scene behind. No particles: the picture is left as it is.
-    void render(const ParticleSpritesView& particles, float radius);
+    // `spacing`: the particles' spacing (0: unknown), which sets the depth pass's spheres
+    // (screen_depth_radius).
+    void render(const ParticleSpritesView& particles, float radius, float spacing = 0);
     // The same, then `spray` drawn over the water as small bright sprites of about 0.6 x a particle's
     // size, hidden by solids in front and by the water's surface.
-    void render(const ParticleSpritesView& fluid, const ParticleSpritesView& spray, float radius);
+    void render(const ParticleSpritesView& fluid, const ParticleSpritesView& spray, float radius,
+                float spacing = 0);
     // Width x height floats (thickness: its reduced size, thickness_size()), rows bottom to top.
     void read(ScreenFluidBuffer which, std::span<float> out) const;
     const ScreenFluidTimings& timings() const;

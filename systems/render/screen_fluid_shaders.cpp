@@ -64,12 +64,16 @@ bool sphere_hit(out float depth, out float chord) {
 )";
 
 // Depth pass: linear eye-space depth into a float target, and the matching window depth so the nearest
-// sphere wins the depth test.
+// sphere wins the depth test. u_push moves every hit back along the view axis: spheres drawn larger than
+// the particles (screen_depth_radius) are pushed back by the difference, so a flat surface stays one
+// particle radius outside the centres.
 const char* const kSphereDepthFragment = R"(
+uniform float u_push;  // world units
 out float frag_depth;
 void main() {
     float depth, chord;
     if (!sphere_hit(depth, chord)) discard;
+    depth += u_push;
     vec4 clip = u_view_proj * vec4(u_eye + depth * pixel_ray(gl_FragCoord.xy), 1.0);
     gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;
     frag_depth = depth;
