@@ -228,6 +228,11 @@ struct ScreenFluidPass::Impl {
         glProgramUniform1f(spray.id, uniform_location(spray.id, "u_size", "spray"), kSpraySize);
         depth_radius = uniform_location(depth.id, "u_radius", "fluid_depth");
         depth_push = uniform_location(depth.id, "u_push", "fluid_depth");
+        // gl_perspective's window depth, 0.5 + 0.5 ((f + n) / (f - n) - 2 f n / ((f - n) d)), without
+        // the matrix: the pass shades every fragment of every sphere.
+        const float n = kCameraNear, f = kCameraFar;
+        glProgramUniform2f(depth.id, uniform_location(depth.id, "u_window_z", "fluid_depth"),
+                           0.5f + 0.5f * (f + n) / (f - n), f * n / (f - n));
         thickness_radius = uniform_location(thickness.id, "u_radius", "fluid_thickness");
         smooth_u.find(smoothing.id);
         blur_step = uniform_location(thickness_blur.id, "u_step", "thickness_blur");

@@ -68,14 +68,14 @@ bool sphere_hit(out float depth, out float chord) {
 // the particles (screen_depth_radius) are pushed back by the difference, so a flat surface stays one
 // particle radius outside the centres.
 const char* const kSphereDepthFragment = R"(
-uniform float u_push;  // world units
+uniform float u_push;     // world units
+uniform vec2 u_window_z;  // the projection's window depth at view depth d is x - y / d
 out float frag_depth;
 void main() {
     float depth, chord;
     if (!sphere_hit(depth, chord)) discard;
     depth += u_push;
-    vec4 clip = u_view_proj * vec4(u_eye + depth * pixel_ray(gl_FragCoord.xy), 1.0);
-    gl_FragDepth = clip.z / clip.w * 0.5 + 0.5;
+    gl_FragDepth = u_window_z.x - u_window_z.y / depth;
     frag_depth = depth;
 }
 )";
