@@ -459,6 +459,9 @@ TEST(ScreenFluid, TheSurfaceMeasuresItsParticlesSpacingOnceEnoughOfThemCome) {
     Particles broken = block(1.5f * radius, 4);
     broken.x[7] = std::nanf("");
     EXPECT_EQ(frame(broken), 0.0f);  // not all finite: unknown, the spheres stay as they are
+    Particles broken_big = block(2 * radius, 8);
+    broken_big.z[100] = INFINITY;
+    EXPECT_EQ(frame(broken_big), 0.0f);  // enough particles, but no spacing: nothing is fixed
     const float fixed = frame(block(2 * radius, 8));
     EXPECT_NEAR(fixed, 2 * radius, 0.05f * radius);
     EXPECT_EQ(frame(block(1.5f * radius, 8)), fixed);  // kept from then on

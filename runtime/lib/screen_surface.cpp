@@ -53,18 +53,17 @@ FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<Const
             if (c == 0) s.count = n;  // every item writes its own range; the count is the same for all
         },
         {after});
-    const FrameGraph::JobId spacing = graph.serial("screen.spacing",
-                                                   [this, slot] {
-                                                       const int k = slot();
-                                                       if (!spacing_fixed_) {
-                                                           fixed_spacing_ = measure_spacing(staged_[k]);
-                                                           spacing_fixed_ =
-                                                               staged_[k].count >= kSpacingSamples;
-                                                       }
-                                                       spacing_[k] = fixed_spacing_;
-                                                   },
-                                                   {stage});
+    const FrameGraph::JobId spacing =
+        graph.serial("screen.spacing", [this, slot] { resolve_spacing(slot()); }, {stage});
     return spray() ? add_spray_jobs(graph, slot, spacing) : spacing;
+}
+
+void ScreenSurface::resolve_spacing(int slot) {
+    if (!spacing_fixed_) {
+        fixed_spacing_ = measure_spacing(staged_[slot]);
+        spacing_fixed_ = staged_[slot].count >= kSpacingSamples && fixed_spacing_ > 0.0f;
+    }
+    spacing_[slot] = fixed_spacing_;
 }
 
 float ScreenSurface::measure_spacing(const Staged& s) {

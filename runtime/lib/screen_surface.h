@@ -58,6 +58,9 @@ class ScreenSurface final : public SurfaceSystem {
     // The staged particles' spacing, at most 2 radii (0 where they are too few, too spread out to hash,
     // or not all finite).
     float measure_spacing(const Staged& s);
+    // screen.spacing: the slot's spacing, measured until a frame of kSpacingSamples particles or more
+    // gives one, then that one.
+    void resolve_spacing(int slot);
     FrameGraph::JobId add_spray_jobs(FrameGraph& graph, const std::function<int()>& slot,
                                      FrameGraph::JobId after);
 
