@@ -2,12 +2,27 @@
 // nothing. Counted with a replaced global operator new.
 #include <gtest/gtest.h>
 
+#include <thread>
+#include <vector>
+
 #include "runtime/lib/frame_pipeline.h"
 #include "runtime/lib/thread_control.h"
 
 #include "support/counting_new.h"
 
 using namespace rivulet;
+
+// The counter leaves out oneTBB's own pools only: it finds the library, and it counts what we allocate,
+// from any thread.
+TEST(SteadyState, TheCounterSeesOurAllocations) {
+    const rivulet::test::CodeRange tbb = rivulet::test::tbb_code();
+    EXPECT_LT(tbb.lo, tbb.hi);
+    const long before = rivulet::test::allocation_count();
+    auto* mine = new std::vector<int>(16);
+    std::thread([] { delete new int(7); }).join();
+    EXPECT_GE(rivulet::test::allocation_count() - before, 3);  // the vector, its elements, the int
+    delete mine;
+}
 
 TEST(SteadyState, FrameLoopAllocatesNothing) {
     ThreadControl control(2);
