@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
 #include "jobs/chunk_prefix.h"
+#include "jobs/density_splat.h"
 #include "jobs/mesh_hash.h"
 #include "jobs/particle_spacing.h"
-#include "runtime/lib/position_staging.h"
 #include "systems/render/renderer.h"
 
 namespace rivulet {
@@ -19,8 +18,7 @@ ScreenSurface::ScreenSurface(const ScreenFluidSettings& settings, std::size_t ma
     : settings_(settings), max_particles_(max_particles), radius_(particle_radius) {
     if (const std::string problem = settings.validate(); !problem.empty())
         throw std::invalid_argument(problem);
-    for (Staged& s : staged_)
-        s.x.reserve(max_particles), s.y.reserve(max_particles), s.z.reserve(max_particles);
+    for (Staged& s : staged_) s.reserve(max_particles);
     if (particle_radius > 0.0f) {
         spacing_heads_.reserve(cell_hash_table_size(max_particles) + 1);
         spacing_order_.reserve(std::max<std::size_t>(max_particles, 1));
@@ -44,15 +42,9 @@ ScreenSurface::ScreenSurface(const ScreenFluidSettings& settings, std::size_t ma
 
 FrameGraph::JobId ScreenSurface::add_jobs(FrameGraph& graph, std::function<ConstPositions()> positions,
                                           std::function<int()> slot, FrameGraph::JobId after) {
-    const FrameGraph::JobId stage = graph.parallel(
-        "screen.stage", [positions] { return staging_items(positions().size(), kStagingChunk); },
-        [this, positions, slot](std::size_t c) {
-            Staged& s = staged_[slot()];
-            const std::size_t n = stage_positions_chunk(positions(), c, kStagingChunk, max_particles_,
-                                                        s.x.data(), s.y.data(), s.z.data());
-            if (c == 0) s.count = n;  // every item writes its own range; the count is the same for all
-        },
-        {after});
+    const FrameGraph::JobId stage = add_position_staging(
+        graph, "screen.stage", std::move(positions),
+        [this, slot]() -> StagedPositions& { return staged_[slot()]; }, max_particles_, after);
     const FrameGraph::JobId spacing =
         graph.serial("screen.spacing", [this, slot] { resolve_spacing(slot()); }, {stage});
     return spray() ? add_spray_jobs(graph, slot, spacing) : spacing;
@@ -68,20 +60,14 @@ void ScreenSurface::resolve_spacing(int slot) {
 
 float ScreenSurface::measure_spacing(const Staged& s) {
     if (!(radius_ > 0.0f) || s.count < 2) return 0.0f;
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    const float* axes[3] = {s.x.data(), s.y.data(), s.z.data()};
-    for (int a = 0; a < 3; ++a)
-        for (std::size_t i = 0; i < s.count; ++i) {
-            const float v = axes[a][i];
-            if (!std::isfinite(v)) return 0.0f;
-            lo[a] = std::min(lo[a], v), hi[a] = std::max(hi[a], v);
-        }
+    const ConstPositions p{s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)};
+    const ParticleBounds b = particle_bounds(p);
+    if (!b.finite) return 0.0f;
     // particle_spacing hashes cells of a quarter of `cap`: their indices must stay below 2^30.
     const float cap = 2.0f * radius_;
     for (int a = 0; a < 3; ++a)
-        if (double(hi[a]) - double(lo[a]) >= 0x1p29 * (double(cap) / 4.0)) return 0.0f;
-    const ConstPositions p{s.x.span(s.count), s.y.span(s.count), s.z.span(s.count)};
-    return particle_spacing(p, lo, cap, kSpacingSamples,
+        if (double(b.hi[a]) - double(b.lo[a]) >= 0x1p29 * (double(cap) / 4.0)) return 0.0f;
+    return particle_spacing(p, b.lo, cap, kSpacingSamples,
                             {spacing_heads_.span(cell_hash_table_size(s.count) + 1),
                              spacing_order_.span(s.count), spacing_values_.span(kSpacingSamples)});
 }

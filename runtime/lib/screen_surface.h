@@ -10,6 +10,7 @@
 
 #include "jobs/particle_chunks.h"
 #include "jobs/spray_split.h"
+#include "runtime/lib/position_staging.h"
 #include "runtime/lib/surface_system.h"
 #include "systems/particles/aligned_array.h"
 #include "systems/render/screen_fluid.h"
@@ -37,9 +38,8 @@ class ScreenSurface final : public SurfaceSystem {
     void fill_view(int slot, FrameView& view) const override;
 
   private:
-    struct Staged {
-        AlignedArray<float> x, y, z;
-        std::size_t count = 0;
+    // The frame's particles as add_position_staging stages them (x, y, z, count), and:
+    struct Staged : StagedPositions {
         // With spray: the staged particles split, the water's [0, fluid) then the spray's [fluid, count),
         // each in particle order.
         AlignedArray<float> sx, sy, sz;
