@@ -257,6 +257,41 @@ TEST_P(EachDepthFilter, KeepsASheetFarBehindAnotherApart) {
     EXPECT_GT(checked, 100);
 }
 
+// Mean |second difference| of the depth along x and along y over the sheet's inner pixels: the
+// ripple of a pixel or two that normals turn into speckle.
+double interior_ripple(const std::vector<float>& d) {
+    double sum = 0;
+    int n = 0;
+    for (int j = kH / 2 - 20; j < kH / 2 + 20; ++j)
+        for (int i = kW / 2 - 20; i < kW / 2 + 20; ++i) {
+            const auto at = [&](int x, int y) { return double(d[std::size_t(y) * kW + x]); };
+            if (at(i, j) <= 0 || at(i - 1, j) <= 0 || at(i + 1, j) <= 0 || at(i, j - 1) <= 0 ||
+                at(i, j + 1) <= 0)
+                continue;
+            sum += std::abs(at(i - 1, j) - 2 * at(i, j) + at(i + 1, j));
+            sum += std::abs(at(i, j - 1) - 2 * at(i, j) + at(i, j + 1));
+            n += 2;
+        }
+    EXPECT_GT(n, 2000);
+    return sum / n;
+}
+
+TEST(ScreenFluid, TheFiltersLeaveNoPixelScaleRipple) {
+    // The filters' radius here is 14 pixels. Sampled with a stride (every third pixel at six taps a
+    // side), neighbouring pixels read disjoint sets of the bumps and the filters' decisions (the
+    // narrow range's skipped pairs, the bilateral's depth weights) differ between them: the sheet
+    // came out smooth on the whole but hatched pixel by pixel, and the composite's normals and
+    // refraction turned that into speckle over the SPH dam break. (Curvature flow takes no taps.)
+    const float radius = 0.04f;
+    const Particles p = jittered_sheet(radius);
+    const double before = interior_ripple(depth_of(p, radius, {}, false));
+    for (DepthSmoothing filter : {DepthSmoothing::kBilateral, DepthSmoothing::kNarrowRange}) {
+        // Every pixel read: 0.5 % of the raw depth's ripple is left; with the stride, 12 %.
+        EXPECT_LT(interior_ripple(depth_of(p, radius, filter, true)), 0.03 * before)
+            << depth_smoothing_name(filter);
+    }
+}
+
 INSTANTIATE_TEST_SUITE_P(ScreenFluid, EachDepthFilter,
                          ::testing::Values(DepthSmoothing::kBilateral, DepthSmoothing::kCurvatureFlow,
                                            DepthSmoothing::kNarrowRange),

@@ -114,6 +114,17 @@ FilterWidth filter_width(float d) {
     int stride = max(1, (radius + u_max_taps - 1) / u_max_taps);
     return FilterWidth(sigma, radius / stride, stride);
 }
+// The Gaussian's weights at taps 1, 2, ... by recurrence (one exp a pixel, not one a tap): with
+// a = exp(-stride^2 / (2 sigma^2)) tap t weighs a^(t^2), and a^((t+1)^2) = a^(t^2) a^(2t+1).
+struct TapWeights { float w; float ratio; float a2; };
+TapWeights first_tap(FilterWidth f) {
+    float a = exp(-0.5 * float(f.stride * f.stride) / (f.sigma * f.sigma));
+    return TapWeights(a, a * a * a, a * a);
+}
+void next_tap(inout TapWeights g) {
+    g.w *= g.ratio;
+    g.ratio *= g.a2;
+}
 // The depth i pixels along u_step from p, clamped to the target.
 float depth_along(ivec2 p, int i) {
     return texelFetch(u_depth, clamp(p + i * u_step, ivec2(0), textureSize(u_depth, 0) - 1), 0).r;
@@ -170,15 +181,17 @@ void main() {
     float d = texelFetch(u_depth, p, 0).r;
     if (d <= 0.0) { frag_depth = 0.0; return; }
     FilterWidth f = filter_width(d);
-    float sum = 0.0, weight = 0.0;
-    for (int t = -f.taps; t <= f.taps; ++t) {
+    float sum = d, weight = 1.0;
+    TapWeights g = first_tap(f);
+    for (int t = 1; t <= f.taps; ++t) {
         int i = t * f.stride;
-        float s = depth_along(p, i);
-        if (s <= 0.0) continue;
-        float ds = (s - d) / u_depth_sigma;
-        float w = exp(-0.5 * float(i * i) / (f.sigma * f.sigma) - 0.5 * ds * ds);
-        sum += w * s;
-        weight += w;
+        float a = depth_along(p, i), b = depth_along(p, -i);
+        float da = (a - d) / u_depth_sigma, db = (b - d) / u_depth_sigma;
+        float wa = a > 0.0 ? g.w * exp(-0.5 * da * da) : 0.0;
+        float wb = b > 0.0 ? g.w * exp(-0.5 * db * db) : 0.0;
+        sum += wa * a + wb * b;
+        weight += wa + wb;
+        next_tap(g);
     }
     frag_depth = sum / weight;
 }
@@ -202,18 +215,20 @@ void main() {
     FilterWidth f = filter_width(d);
     float low = d - u_threshold, high = d + u_threshold, behind = d + u_clamp;
     float sum = d, weight = 1.0;
+    TapWeights g = first_tap(f);
     for (int t = 1; t <= f.taps; ++t) {
         int i = t * f.stride;
         float a = far_if_empty(depth_along(p, i));
         float b = far_if_empty(depth_along(p, -i));
-        if (a < low || b < low) continue;
-        a = a > high ? behind : a;
-        b = b > high ? behind : b;
-        low = min(low, min(a, b) - u_threshold);
-        high = max(high, max(a, b) + u_threshold);
-        float w = exp(-0.5 * float(i * i) / (f.sigma * f.sigma));
-        sum += w * (a + b);
-        weight += 2.0 * w;
+        if (a >= low && b >= low) {
+            a = a > high ? behind : a;
+            b = b > high ? behind : b;
+            low = min(low, min(a, b) - u_threshold);
+            high = max(high, max(a, b) + u_threshold);
+            sum += g.w * (a + b);
+            weight += 2.0 * g.w;
+        }
+        next_tap(g);
     }
     frag_depth = sum / weight;
 }
