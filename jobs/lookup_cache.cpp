@@ -66,27 +66,33 @@ struct GroupStarts {
 };
 
 // Pass 2: appends every listed particle (sorted by mid_z) to the columns of its row runs, as
-// make(q, dx, dy) with d = column axis - centre; returns nothing, the counts are pass 1's.
+// make(q)(dx, dy) with d = column axis - centre; returns nothing, the counts are pass 1's. make(q) reads
+// the particle's values once: inside the row loop every entry's store could alias them, and the
+// compiler reloaded them per entry.
 template <class Entry, class Make>
 void append_entries(const SliceGrid& g, std::int32_t n, ConstPositions p, const LookupScratch& s,
                     std::uint32_t row_slots, const float* axis_x, const float* axis_y, std::uint32_t* ends,
                     std::span<std::uint32_t> offsets, std::span<Entry> entries, Make&& make) {
-    const std::uint32_t cols = (g.n + 1) * (g.n + 1), groups = lookup_groups(g), row_runs = row_slots - 1;
+    const std::uint32_t row = g.n + 1, cols = row * row, groups = lookup_groups(g), row_runs = row_slots - 1;
+    const std::int32_t reach = g.reach;
+    Entry* const out = entries.data();
     GroupStarts start_groups{offsets.data(), ends, cols};
     for (std::uint32_t o = 0; o < static_cast<std::uint32_t>(p.size()); ++o) {
         const std::uint32_t q = s.order[o];
         const std::int32_t mid = s.mids[q];
-        if (mid + g.reach + 1 < 0 || mid - g.reach > n) continue;  // reaches no slice of the block
+        if (mid + reach + 1 < 0 || mid - reach > n) continue;  // reaches no slice of the block
         const std::uint16_t* rows = s.rows.data() + std::size_t(o) * row_slots;
         const std::int32_t by = static_cast<std::int16_t>(rows[row_runs]);
-        start_groups.up_to(lookup_group(mid, g.reach));
+        start_groups.up_to(lookup_group(mid, reach));
+        const float px = p.x[q], py = p.y[q];
+        const auto entry = make(q);
         for (std::uint32_t r = 0; r < row_runs; ++r) {
             const std::int32_t a = rows[r] & 0xff, b = rows[r] >> 8;
             if (a > b) continue;
             const std::int32_t j = by + std::int32_t(r);
-            const float dy = axis_y[j] - p.y[q];
-            std::uint32_t* cursor = ends + std::uint32_t(j) * (g.n + 1);
-            for (std::int32_t i = a; i <= b; ++i) entries[cursor[i]++] = make(q, axis_x[i] - p.x[q], dy);
+            const float dy = axis_y[j] - py;
+            std::uint32_t* cursor = ends + std::uint32_t(j) * row;
+            for (std::int32_t i = a; i <= b; ++i) out[cursor[i]++] = entry(axis_x[i] - px, dy);
         }
     }
     if (groups > 0) start_groups.up_to(groups - 1);  // groups after the last particle's start at the ends
@@ -176,8 +182,8 @@ std::uint32_t build_lookup_cache(const SliceGrid& g, std::uint32_t bi, std::uint
     if (total > entries.size()) return total;
     // (a - x)^2 is (x - a)^2 exactly: the entries are those of the corner distance minus its z term.
     append_entries(g, n, p, s, row_slots, axis_x.data(), axis_y.data(), ends, offsets, entries,
-                   [&](std::uint32_t q, float dx, float dy) {
-                       return ColumnEntry{dx * dx + dy * dy, p.z[q]};
+                   [&](std::uint32_t q) {
+                       return [z = p.z[q]](float dx, float dy) { return ColumnEntry{dx * dx + dy * dy, z}; };
                    });
     return total;
 }
@@ -247,12 +253,13 @@ std::uint32_t build_aniso_lookup_cache(const SliceGrid& g, std::uint32_t bi, std
     }
     const std::uint32_t total = column_starts(g, diff, diff_stride, ends);
     if (total > entries.size()) return total;
-    append_entries(g, n, p, s, row_slots, axis_x.data(), axis_y.data(), ends, offsets, entries,
-                   [&](std::uint32_t q, float dx, float dy) {
-                       const std::uint32_t id = ids[q];
-                       return AnisoEntry{column_a(id, dx, dy), p.z[q] + shape.gx[id] * dx + shape.gy[id] * dy,
-                                         shape.c[id], shape.amp[id]};
-                   });
+    append_entries(
+        g, n, p, s, row_slots, axis_x.data(), axis_y.data(), ends, offsets, entries, [&](std::uint32_t q) {
+            return [&, q, id = ids[q]](float dx, float dy) {
+                return AnisoEntry{column_a(id, dx, dy), p.z[q] + shape.gx[id] * dx + shape.gy[id] * dy,
+                                  shape.c[id], shape.amp[id]};
+            };
+        });
     return total;
 }
 
