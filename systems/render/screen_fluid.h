@@ -41,8 +41,8 @@ struct ScreenFluidSettings {
     int max_filter_pixels = 16;  // the filter's half width never exceeds this
     // The filters read at most this many taps on each side; wider kernels are sampled with a stride.
     // By default every pixel of the widest kernel: with a stride, neighbouring pixels read disjoint
-    // sets of the particles' bumps and the filters' depth decisions differ between them, and the
-    // composite's refraction showed the hatching that leaves as speckle (perf/RESULTS.md).
+    // sets of the particles' bumps and the filters' depth decisions differ between them: the depth
+    // comes out hatched, and the composite's refraction turns that into speckle (perf/RESULTS.md).
     int max_filter_taps = 16;
     int fill_holes = 2;  // background pixels with fluid on both sides this near are filled (0: none)
     int thickness_downsample = 2;
