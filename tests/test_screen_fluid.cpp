@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -290,6 +291,58 @@ TEST(ScreenFluid, TheFiltersLeaveNoPixelScaleRipple) {
         EXPECT_LT(interior_ripple(depth_of(p, radius, filter, true)), 0.03 * before)
             << depth_smoothing_name(filter);
     }
+}
+
+// Mean |second difference| of a smoothed depth over the pixels of the farther of two sheets (raw depth
+// beyond `split`), apart: [0] those with no pixel of the nearer sheet within 10 pixels, [1] those with one.
+std::array<double, 2> far_sheet_ripple(const std::vector<float>& raw, const std::vector<float>& d,
+                                       float split) {
+    const auto far_at = [&](int i, int j) { return raw[std::size_t(j) * kW + i] > split; };
+    const auto near_at = [&](int i, int j) {
+        const float v = raw[std::size_t(j) * kW + i];
+        return v > 0 && v <= split;
+    };
+    const auto at = [&](int i, int j) { return double(d[std::size_t(j) * kW + i]); };
+    std::array<double, 2> sum{}, n{};
+    for (int j = 12; j < kH - 12; ++j)
+        for (int i = 12; i < kW - 12; ++i) {
+            if (!(far_at(i - 1, j) && far_at(i, j) && far_at(i + 1, j) && far_at(i, j - 1) &&
+                  far_at(i, j + 1)))
+                continue;
+            bool edge = false;
+            for (int b = -10; b <= 10 && !edge; ++b)
+                for (int a = -10; a <= 10 && !edge; ++a) edge = near_at(i + a, j + b);
+            sum[edge] += std::abs(at(i - 1, j) - 2 * at(i, j) + at(i + 1, j)) +
+                         std::abs(at(i, j - 1) - 2 * at(i, j) + at(i, j + 1));
+            n[edge] += 2;
+        }
+    EXPECT_GT(n[0], 1000);
+    EXPECT_GT(n[1], 1000);
+    return {sum[0] / n[0], sum[1] / n[1]};
+}
+
+TEST(ScreenFluid, NarrowRangeSmoothsASheetBehindAnEdgeAsElsewhere) {
+    // A jittered sheet 10 radii behind another that covers it up to a diagonal. In one separable pass
+    // each direction's kernel stops where the nearer sheet begins, so next to its edge the farther sheet
+    // kept about twice the ripple it kept elsewhere (1.7-2.0x over four jitters; over the dam break the
+    // refraction showed such bands as axis-aligned blocks); the default's two passes of half the
+    // variance keep 1.3-1.4x.
+    const float radius = 0.04f;
+    Particles p;
+    for (int iy = 0; iy < 20; ++iy)
+        for (int ix = 0; ix < 20; ++ix) {
+            const float x = -0.4f + 0.04f * float(ix), y = 0.1f + 0.04f * float(iy);
+            const std::uint64_t id = std::uint64_t(iy) * 20 + ix;
+            p.add({x, y, -10 * radius + (counter_uniform(9, 0, id, 0) - 0.5f) * radius});
+            if ((x + 0.02f) + (y - 0.48f) < 0) p.add({x, y, (counter_uniform(8, 0, id, 0) - 0.5f) * radius});
+        }
+    const std::vector<float> raw = depth_of(p, radius, {}, false);
+    float nearest = INFINITY;
+    for (float v : raw)
+        if (v > 0) nearest = std::min(nearest, v);
+    const auto [away, edge] =
+        far_sheet_ripple(raw, depth_of(p, radius, DepthSmoothing::kNarrowRange, true), nearest + 5 * radius);
+    EXPECT_LT(edge, 1.55 * away) << "next to the edge " << edge << ", away from it " << away;
 }
 
 INSTANTIATE_TEST_SUITE_P(ScreenFluid, EachDepthFilter,

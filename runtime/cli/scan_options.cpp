@@ -125,7 +125,8 @@ void ScreenOptions::add_to(CLI::App& cmd) {
             settings.filter_iterations = n;
             iterations_given = true;
         },
-        "Screen-space fluid: smoothing passes over the depth (filters: 1; curvature flow: 40)");
+        "Screen-space fluid: smoothing passes over the depth, sharing --filter-radius (narrow-range: 2, "
+        "bilateral: 1, curvature-flow: 40)");
     cmd.add_option("--filter-radius", settings.filter_radius,
                    "Screen-space fluid: smoothing width in particle radii (the pixels follow depth)")
         ->capture_default_str();

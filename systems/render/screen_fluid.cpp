@@ -41,7 +41,15 @@ bool parse_depth_smoothing(std::string_view text, DepthSmoothing& out) {
 }
 
 int default_filter_iterations(DepthSmoothing s) {
-    return s == DepthSmoothing::kCurvatureFlow ? 40 : 1;
+    switch (s) {
+        case DepthSmoothing::kCurvatureFlow:
+            return 40;
+        case DepthSmoothing::kNarrowRange:
+            return 2;
+        case DepthSmoothing::kBilateral:
+            break;
+    }
+    return 1;
 }
 
 std::string ScreenFluidSettings::validate() const {
@@ -419,7 +427,12 @@ struct ScreenFluidPass::Impl {
         glActiveTexture(GL_TEXTURE0);
         viewport(smoothing, width, height);
         const SmoothingUniforms& u = smooth_u;
-        glProgramUniform1f(smoothing.id, u.world_sigma, settings.filter_radius * radius);
+        // The filters' passes compound (n Gaussians of sigma / sqrt(n) make one of sigma), so the width is
+        // the setting's whatever the passes, as curvature flow's, which spreads it over its steps.
+        const bool filter = settings.smoothing != DepthSmoothing::kCurvatureFlow;
+        const float passes = static_cast<float>(std::max(1, settings.filter_iterations));
+        glProgramUniform1f(smoothing.id, u.world_sigma,
+                           settings.filter_radius * radius / (filter ? std::sqrt(passes) : 1.0f));
         glProgramUniform1f(smoothing.id, u.depth_sigma, settings.depth_sigma * radius);
         glProgramUniform1f(smoothing.id, u.threshold, settings.depth_sigma * radius);
         glProgramUniform1f(smoothing.id, u.clamp, radius);
