@@ -5,7 +5,7 @@
 //
 //   bench_screen_passes [--threads 2] [--size 1280x720] [--frames 20] [--scenes fountain,dambreak]
 //                       [--filters narrow-range,bilateral,curvature-flow] [--warmup N] [--max-taps K]
-//                       [--filter-iterations N] [--filter-radius R]
+//                       [--filter-iterations N] [--filter-radius R] [--thickness-downsample D]
 // One thread count per process: llvmpipe reads its thread count once.
 #include <fmt/format.h>
 
@@ -46,7 +46,7 @@ struct Row {
 // One pipeline per scene, warmed up once; each filter swaps the renderer's screen pass in and runs
 // `frames` frames timed pass by pass, then `frames` as users see them.
 std::vector<Row> measure(const SceneDesc& scene, const std::vector<DepthSmoothing>& filters, int width,
-                         int height, int frames, int max_taps, int iterations, float radius) {
+                         int height, int frames, int max_taps, int iterations, float radius, int downsample) {
     PipelineSettings config;
     config.method = SurfaceMethod::kScreen;
     config.pipelined = false;  // the passes alone on the machine: extraction does not compete
@@ -62,6 +62,7 @@ std::vector<Row> measure(const SceneDesc& scene, const std::vector<DepthSmoothin
             settings.smoothing = filter;
             settings.filter_iterations = iterations > 0 ? iterations : default_filter_iterations(filter);
             if (radius > 0) settings.filter_radius = radius;
+            if (downsample > 0) settings.thickness_downsample = downsample;
             settings.time_passes = timed;
             if (max_taps > 0) settings.max_filter_taps = max_taps;
             pipeline.renderer()->set_screen_fluid(settings);
@@ -94,7 +95,7 @@ std::vector<Row> measure(const SceneDesc& scene, const std::vector<DepthSmoothin
 
 int main(int argc, char** argv) {
     CLI::App app{"Per-pass milliseconds of the screen-space fluid method"};
-    int threads = 2, frames = 20, warmup = -1, max_taps = 0, iterations = 0;
+    int threads = 2, frames = 20, warmup = -1, max_taps = 0, iterations = 0, downsample = 0;
     float radius = 0;
     std::string size = "1280x720", scenes = "fountain,dambreak",
                 filters = "narrow-range,bilateral,curvature-flow";
@@ -109,6 +110,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, ScreenFluidSettings::kMaxIterations));
     app.add_option("--filter-radius", radius, "Smoothing width in particle radii (default: the settings')")
         ->check(CLI::Range(0.0f, 16.0f));
+    app.add_option("--thickness-downsample", downsample,
+                   "Thickness target's downsampling (default: the settings')")
+        ->check(CLI::Range(0, 8));
     app.add_option("--warmup", warmup, "Warm-up frames (default: the scene's)")->check(CLI::Range(0, 100000));
     CLI11_PARSE(app, argc, argv);
     keep_freed_memory_for_reuse();  // as rivulet does: llvmpipe's per-frame buffers stay in the heap
@@ -138,7 +142,7 @@ int main(int argc, char** argv) {
             SceneDesc scene = make_builtin_scene(name);
             if (warmup >= 0) scene.warmup_frames = warmup;
             const std::vector<Row> rows =
-                measure(scene, chosen, width, height, frames, max_taps, iterations, radius);
+                measure(scene, chosen, width, height, frames, max_taps, iterations, radius, downsample);
             for (std::size_t k = 0; k < rows.size(); ++k) {
                 const Row& r = rows[k];
                 fmt::print(
