@@ -217,10 +217,10 @@ struct ScreenFluidPass::Impl {
           thick_h((h + s.thickness_downsample - 1) / s.thickness_downsample),
           thick(thick_w, thick_h) {
         using namespace shaders;
-        depth = build({kVersion, kScreenCamera, kSphereQuadVertex},
+        depth = build({kVersion, kScreenCamera, kSphereTriangleVertex},
                       {kFragmentPrelude, kScreenCamera, kSphereHit, kSphereDepthFragment}, "fluid_depth");
         thickness =
-            build({kVersion, kScreenCamera, kSphereQuadVertex},
+            build({kVersion, kScreenCamera, kSphereTriangleVertex},
                   {kFragmentPrelude, kScreenCamera, kSphereHit, kSphereThicknessFragment}, "fluid_thickness");
         close_holes =
             build({kFullScreenVertex}, {kFragmentPrelude, kScreenCamera, kCloseHolesFragment}, "close_holes");
@@ -350,7 +350,7 @@ struct ScreenFluidPass::Impl {
     void draw_spheres(const Program& p, std::size_t count) {
         glUseProgram(p.id);
         glBindVertexArray(vao);
-        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(count));
+        glDrawArraysInstanced(GL_TRIANGLES, 0, 3, static_cast<GLsizei>(count));
     }
 
     void full_screen(const Program& p) {

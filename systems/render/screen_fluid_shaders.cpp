@@ -22,10 +22,15 @@ vec3 pixel_ray(vec2 frag) {
 }
 )";
 
-// One camera-facing quad per particle, just large enough to cover the sphere's outline: in the plane
-// through the centre across the line of sight, the tangent cone from the eye meets it at
-// r d / sqrt(d^2 - r^2).
-const char* const kSphereQuadVertex = R"(
+// One camera-facing triangle per particle around the sphere's outline: in the plane through the centre
+// across the line of sight, the tangent cone from the eye meets it in a circle of radius
+// r d / sqrt(d^2 - r^2), and the equilateral triangle around that circle (a thousandth wider) covers
+// the outline. A triangle, not a quad: for spheres a few pixels across llvmpipe's cost is mostly per
+// triangle, not per fragment. On the dam break's 23k spheres the triangle's 30 % more fragments (those
+// outside the outline discarded) made the depth pass 5 % and the thickness pass 17 % faster than a
+// quad's two triangles, on the fountain's larger spheres neither faster nor slower; an octagon's six
+// triangles made the dam break's depth pass 1.6x slower (perf/RESULTS.md).
+const char* const kSphereTriangleVertex = R"(
 layout(location = 0) in float a_x;
 layout(location = 1) in float a_y;
 layout(location = 2) in float a_z;
@@ -39,14 +44,15 @@ void main() {
     vec3 side = normalize(abs(view.y) < 0.99 ? cross(view, vec3(0.0, 1.0, 0.0)) : cross(view, vec3(1.0, 0.0, 0.0)));
     vec3 up = cross(side, view);
     float reach = d > u_radius * 1.001 ? u_radius * d / sqrt(d * d - u_radius * u_radius) : 0.0;
-    vec2 corner = vec2(gl_VertexID & 1, gl_VertexID >> 1) * 2.0 - 1.0;
+    const vec2 corners[3] = vec2[3](vec2(0.0, 2.002), vec2(-1.7338, -1.001), vec2(1.7338, -1.001));
+    vec2 corner = corners[gl_VertexID];
     vec3 p = v_center + reach * (corner.x * side + corner.y * up);
     gl_Position = u_view_proj * vec4(p, 1.0);
 }
 )";
 
 // Where the pixel's ray meets the particle's sphere: the eye-space depth of the nearer hit (the
-// sphere's true depth, not the quad's) and the chord's length, or a discard.
+// sphere's true depth, not the triangle's) and the chord's length, or a discard.
 const char* const kSphereHit = R"(
 uniform float u_radius;
 flat in vec3 v_center;

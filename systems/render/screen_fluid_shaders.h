@@ -9,8 +9,9 @@ namespace rivulet::shaders {
 extern const char* const kVersion;
 extern const char* const kScreenCamera;
 
-// Particles as camera-facing quads (instanced, 4 vertices each; attributes 0-2 read x, y, z per instance).
-extern const char* const kSphereQuadVertex;
+// Particles as camera-facing triangles (instanced, 3 vertices each; attributes 0-2 read x, y, z per
+// instance).
+extern const char* const kSphereTriangleVertex;
 // Ray-sphere intersection per pixel, shared by the two sphere passes.
 extern const char* const kSphereHit;
 extern const char* const kSphereDepthFragment;
