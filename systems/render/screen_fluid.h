@@ -40,7 +40,7 @@ struct ScreenFluidSettings {
     DepthSmoothing smoothing = DepthSmoothing::kNarrowRange;
     // Filter passes (each one x and one y) or curvature-flow steps; the filters' passes share the width
     // (default_filter_iterations).
-    int filter_iterations = 2;
+    int filter_iterations = default_filter_iterations(smoothing);
     // The smoothing's Gaussian sigma over the image, all passes together, in particle radii at the
     // pixel's depth.
     float filter_radius = 2.0f;
