@@ -260,6 +260,13 @@ TEST_P(EachDepthFilter, KeepsASheetFarBehindAnotherApart) {
 
 // Mean |second difference| of the depth along x and along y over the sheet's inner pixels: the
 // ripple of a pixel or two that normals turn into speckle.
+// |second difference| of the depth d along x plus along y at pixel (i, j).
+double second_differences(const std::vector<float>& d, int i, int j) {
+    const auto at = [&](int x, int y) { return double(d[std::size_t(y) * kW + x]); };
+    return std::abs(at(i - 1, j) - 2 * at(i, j) + at(i + 1, j)) +
+           std::abs(at(i, j - 1) - 2 * at(i, j) + at(i, j + 1));
+}
+
 double interior_ripple(const std::vector<float>& d) {
     double sum = 0;
     int n = 0;
@@ -269,8 +276,7 @@ double interior_ripple(const std::vector<float>& d) {
             if (at(i, j) <= 0 || at(i - 1, j) <= 0 || at(i + 1, j) <= 0 || at(i, j - 1) <= 0 ||
                 at(i, j + 1) <= 0)
                 continue;
-            sum += std::abs(at(i - 1, j) - 2 * at(i, j) + at(i + 1, j));
-            sum += std::abs(at(i, j - 1) - 2 * at(i, j) + at(i, j + 1));
+            sum += second_differences(d, i, j);
             n += 2;
         }
     EXPECT_GT(n, 2000);
@@ -302,7 +308,6 @@ std::array<double, 2> far_sheet_ripple(const std::vector<float>& raw, const std:
         const float v = raw[std::size_t(j) * kW + i];
         return v > 0 && v <= split;
     };
-    const auto at = [&](int i, int j) { return double(d[std::size_t(j) * kW + i]); };
     std::array<double, 2> sum{}, n{};
     for (int j = 12; j < kH - 12; ++j)
         for (int i = 12; i < kW - 12; ++i) {
@@ -312,8 +317,7 @@ std::array<double, 2> far_sheet_ripple(const std::vector<float>& raw, const std:
             bool edge = false;
             for (int b = -10; b <= 10 && !edge; ++b)
                 for (int a = -10; a <= 10 && !edge; ++a) edge = near_at(i + a, j + b);
-            sum[edge] += std::abs(at(i - 1, j) - 2 * at(i, j) + at(i + 1, j)) +
-                         std::abs(at(i, j - 1) - 2 * at(i, j) + at(i, j + 1));
+            sum[edge] += second_differences(d, i, j);
             n[edge] += 2;
         }
     EXPECT_GT(n[0], 1000);
