@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -25,15 +26,28 @@ uniform vec3 u_n;
 uniform vec3 u_v;
 uniform vec3 u_reflected;
 uniform float u_thick;
+uniform vec2 u_uv;
+uniform vec2 u_n_screen;
+uniform float u_front_z;
+uniform float u_eye_depth;
+uniform vec2 u_near_far;
 out vec4 frag_color;
 void main() {
-    frag_color = vec4(shade_water(u_n, u_v, u_reflected, u_thick, vec2(0.5), vec2(0.0), 0.0), 1.0);
+    frag_color = vec4(shade_water(u_n, u_v, u_reflected, u_thick, u_uv, u_n_screen, 0.0, u_front_z),
+                      water_window_depth(u_eye_depth, u_near_far));
 }
 )";
 
+// The scene behind is one row of kSceneTexels: `behind` from the middle texel on, `beside` (with its own
+// window depth) left of it. The probe's pixel is the middle texel's centre, so a refraction offset to the
+// left reads `beside`.
+constexpr int kSceneTexels = 32;
+
 struct WaterInputs {
-    Vec3f n{0, 0, 1}, v{0, 0, 1}, reflected, behind, water_color, absorption{9, 3.5f, 1.6f};
+    Vec3f n{0, 0, 1}, v{0, 0, 1}, reflected, behind, beside, water_color, absorption{9, 3.5f, 1.6f};
     float thickness = 0;
+    float n_screen_x = 0;                              // the normal's part along the screen's x
+    float front_z = 0.5f, behind_z = 1, beside_z = 1;  // window depths: the water's, the scene's
 };
 
 class ShadeWaterProbe {
@@ -44,20 +58,22 @@ class ShadeWaterProbe {
             compile_shader(GL_FRAGMENT_SHADER,
                            {shaders::kFragmentPrelude, shaders::kWaterShading, kProbeFragment}, "probe.frag");
         program_ = link_program(vs, fs, "probe");
-        glGenTextures(2, textures_);
-        glBindTexture(GL_TEXTURE_2D, textures_[0]);  // the scene behind: one texel
-        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, 1, 1);
-        glBindTexture(GL_TEXTURE_2D, textures_[1]);  // the result
+        glGenTextures(3, textures_);
+        glBindTexture(GL_TEXTURE_2D, textures_[0]);  // the scene behind
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, kSceneTexels, 1);
+        glBindTexture(GL_TEXTURE_2D, textures_[1]);  // its window depth
+        glTexStorage2D(GL_TEXTURE_2D, 1, GL_R32F, kSceneTexels, 1);
+        glBindTexture(GL_TEXTURE_2D, textures_[2]);  // the result
         glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, 1, 1);
         glGenFramebuffers(1, &fbo_);
         glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, textures_[1], 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, textures_[2], 0);
         glGenVertexArrays(1, &vao_);
         check_gl("probe setup");
     }
     ~ShadeWaterProbe() {
         glDeleteProgram(program_);
-        glDeleteTextures(2, textures_);
+        glDeleteTextures(3, textures_);
         glDeleteFramebuffers(1, &fbo_);
         glDeleteVertexArrays(1, &vao_);
     }
@@ -69,26 +85,53 @@ class ShadeWaterProbe {
         set3("u_n", in.n), set3("u_v", in.v), set3("u_reflected", in.reflected);
         set3("u_water_color", in.water_color), set3("u_absorption", in.absorption);
         glProgramUniform1f(program_, glGetUniformLocation(program_, "u_thick"), in.thickness);
-        glProgramUniform1f(program_, glGetUniformLocation(program_, "u_refraction"), 0.25f);
+        glProgramUniform1f(program_, glGetUniformLocation(program_, "u_refraction"), shaders::kRefraction);
+        glProgramUniform1f(program_, glGetUniformLocation(program_, "u_front_z"), in.front_z);
+        glProgramUniform2f(program_, glGetUniformLocation(program_, "u_n_screen"), in.n_screen_x, 0);
+        glProgramUniform2f(program_, glGetUniformLocation(program_, "u_uv"),
+                           (kSceneTexels / 2 + 0.5f) / kSceneTexels, 0.5f);
         glProgramUniform1i(program_, glGetUniformLocation(program_, "u_scene_color"), 0);
-        const float behind[4] = {in.behind.x, in.behind.y, in.behind.z, 1};
+        glProgramUniform1i(program_, glGetUniformLocation(program_, "u_scene_depth"), 1);
+        std::vector<float> color, depth;
+        for (int i = 0; i < kSceneTexels; ++i) {
+            const bool right = i >= kSceneTexels / 2;
+            const Vec3f c = right ? in.behind : in.beside;
+            color.insert(color.end(), {c.x, c.y, c.z, 1});
+            depth.push_back(right ? in.behind_z : in.beside_z);
+        }
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, textures_[0]);
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 1, 1, GL_RGBA, GL_FLOAT, behind);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, kSceneTexels, 1, GL_RGBA, GL_FLOAT, color.data());
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, textures_[1]);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, kSceneTexels, 1, GL_RED, GL_FLOAT, depth.data());
+        glActiveTexture(GL_TEXTURE0);
+        const std::array<float, 4> out = draw();
+        return {out[0], out[1], out[2]};
+    }
+
+    // water_window_depth at view depth d for the camera's near and far planes.
+    float window_depth(float d) {
+        glProgramUniform1f(program_, glGetUniformLocation(program_, "u_eye_depth"), d);
+        glProgramUniform2f(program_, glGetUniformLocation(program_, "u_near_far"), kCameraNear, kCameraFar);
+        return draw()[3];
+    }
+
+  private:
+    std::array<float, 4> draw() {
         glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
         glViewport(0, 0, 1, 1);
         glUseProgram(program_);
         glBindVertexArray(vao_);
         glDrawArrays(GL_TRIANGLES, 0, 3);
-        float out[4] = {};
-        glReadPixels(0, 0, 1, 1, GL_RGBA, GL_FLOAT, out);
+        std::array<float, 4> out{};
+        glReadPixels(0, 0, 1, 1, GL_RGBA, GL_FLOAT, out.data());
         check_gl("probe draw");
-        return {out[0], out[1], out[2]};
+        return out;
     }
 
-  private:
     OsMesaContext context_;
-    GLuint program_ = 0, textures_[2] = {}, fbo_ = 0, vao_ = 0;
+    GLuint program_ = 0, textures_[3] = {}, fbo_ = 0, vao_ = 0;
 };
 
 constexpr float kF0 = 0.02f;  // water's reflectance at normal incidence
@@ -124,6 +167,35 @@ TEST(WaterShading, LightFromBehindFallsByBeerLambertOverTheThickness) {
     const Vec3f deep = probe.shade(in);
     EXPECT_NEAR(deep.x, (1 - kF0) * 0.1f, 1e-4f);
     EXPECT_NEAR(deep.z, (1 - kF0) * 0.5f, 1e-4f);
+}
+
+TEST(WaterShading, RefractionShowsTheSceneBehindButNotWhatStandsInFront) {
+    ShadeWaterProbe probe;
+    WaterInputs in;
+    in.behind = {1, 1, 1};  // white under the pixel, black beside it, clear water, a black sky
+    in.absorption = {0, 0, 0};
+    in.thickness = 0.2f;
+    in.n_screen_x = 1;  // the lookup moves kRefraction * 0.2 = 1.6 texels left, onto the black
+    ASSERT_GT(shaders::kRefraction * in.thickness * kSceneTexels, 1.0f);
+    in.beside_z = 0.9f;  // behind the water's front: refracted into view
+    EXPECT_NEAR(probe.shade(in).x, 0.0f, 1e-5f);
+    in.beside_z = 0.2f;  // in front of the water (a post of the tank's frame): the scene under the pixel
+    EXPECT_NEAR(probe.shade(in).x, 1 - kF0, 1e-5f);
+    in.n_screen_x = 0;  // facing the eye: no offset, whatever stands beside
+    in.beside_z = 0.9f;
+    EXPECT_NEAR(probe.shade(in).x, 1 - kF0, 1e-5f);
+}
+
+// The composite and the volume's rays know their water's depth along the view axis; the mask compares
+// it with the scene's depth buffer, so it must land where the camera's projection puts that depth.
+TEST(WaterShading, WindowDepthIsTheCamerasProjectionOfAViewDepth) {
+    ShadeWaterProbe probe;
+    const Mat4 projection = perspective(0.5f, 16.0f / 9.0f);
+    for (float d : {0.1f, 1.0f, 3.5f, 20.0f, 90.0f}) {
+        const Eigen::Vector4f clip = projection * Eigen::Vector4f(0, 0, -d, 1);
+        const float window = 0.5f + 0.5f * clip.z() / clip.w();
+        EXPECT_NEAR(probe.window_depth(d), window, 2e-6f) << "view depth " << d;
+    }
 }
 
 // --- the mesh methods' thickness ---

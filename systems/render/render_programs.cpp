@@ -33,14 +33,14 @@ LitPrograms build_lit_programs() {
     // What each variant reads (the linker drops the rest): a misspelt name fails here rather than as a
     // quietly wrong picture.
     static const std::vector<const char*> kReads[shaders::kLitVariants] = {
-        {"u_water_color", "u_absorption", "u_refraction", "u_scene_color", "u_thickness", "u_viewport",
-         "u_right", "u_up", "u_reflection_lod", "u_environment"},
+        {"u_water_color", "u_absorption", "u_refraction", "u_scene_color", "u_scene_depth", "u_thickness",
+         "u_viewport", "u_right", "u_up", "u_reflection_lod", "u_environment"},
         {"u_albedo", "u_shine", "u_shadow_map", "u_shadow_matrix", "u_shadow_texel"},
         {"u_horizon", "u_shadow_map", "u_shadow_matrix", "u_shadow_texel"},
         {"u_reflection_lod", "u_environment"},
         {"u_horizon"},
-        {"u_water_color", "u_absorption", "u_refraction", "u_scene_color", "u_slab_depth", "u_viewport",
-         "u_right", "u_up", "u_reflection_lod", "u_environment"},
+        {"u_water_color", "u_absorption", "u_refraction", "u_scene_color", "u_scene_depth", "u_slab_depth",
+         "u_viewport", "u_right", "u_up", "u_reflection_lod", "u_environment"},
     };
     LitPrograms programs;
     for (int v = 0; v < shaders::kLitVariants; ++v) {
@@ -70,6 +70,7 @@ LitPrograms build_lit_programs() {
         p.slab_depth = glGetUniformLocation(p.id, "u_slab_depth");
         p.refraction = glGetUniformLocation(p.id, "u_refraction");
         glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_scene_color"), shaders::kSceneColorUnit);
+        glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_scene_depth"), shaders::kSceneDepthUnit);
         glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_thickness"), shaders::kThicknessUnit);
         glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_environment"), shaders::kEnvironmentUnit);
         glProgramUniform1i(p.id, glGetUniformLocation(p.id, "u_shadow_map"), shaders::kShadowUnit);

@@ -312,7 +312,6 @@ void main() {
 const char* const kCompositeFragment = R"(
 uniform sampler2D u_depth;       // smoothed eye-space depth, 0 = no fluid
 uniform sampler2D u_thickness;   // reduced resolution
-uniform sampler2D u_scene_depth; // window depth of the scene behind
 uniform vec3 u_light_dir;
 uniform samplerCube u_environment;
 uniform bool u_has_environment;  // else the analytic sky
@@ -355,7 +354,9 @@ void main() {
     vec3 r = reflect(-v, n);
     vec3 reflected = u_has_environment ? texture(u_environment, r).rgb : sky_color(r);
     float highlight = pow(max(dot(n, normalize(u_light_dir + v)), 0.0), 96.0);
-    frag_color = vec4(shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight), 1.0);
+    vec3 color = shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight,
+                             water_window_depth(d, u_near_far));
+    frag_color = vec4(color, 1.0);
 }
 )";
 

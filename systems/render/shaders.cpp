@@ -117,12 +117,18 @@ void main() {
     vec2 uv = gl_FragCoord.xy / u_viewport;
 #if LIT_VARIANT == 5
     float thickness = u_slab_depth / max(v.y, 0.15);
+    // No refraction mask over the pool: at grazing angles its slab's offset is long, and the floor a long
+    // offset nearer the eye lies in front of this pixel's surface though it is under the water, so the
+    // mask would cut the refracted floor into jagged bands.
+    float front_z = 0.0;
 #else
     float thickness = max(texture(u_thickness, uv).r, 0.0);
+    float front_z = gl_FragCoord.z;
 #endif
     vec3 reflected = textureLod(u_environment, reflect(-v, n), u_reflection_lod).rgb;
     float highlight = step(1e-4, direct) * specular(n, v, 96.0);
-    vec3 color = shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight);
+    vec3 color = shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight,
+                             front_z);
 #elif LIT_VARIANT == 2 || LIT_VARIANT == 4
     // Ground: a checker, faded into the environment's horizon so the plane's far edge and the checker's
     // aliasing disappear.
@@ -144,22 +150,39 @@ void main() {
 // (refraction) and tinted towards the water's colour by Beer-Lambert absorption over it, plus the key
 // light's highlight. The screen-space composite and the lit meshes' water both call shade_water, so
 // three methods of one frame differ only in their surface.
+//
+// The scene copy holds what stands in front of the water too (the tank's front posts and bars), and an
+// offset lookup that lands on it would show it through the water: dark blotches over a whole surge wall
+// where the frame's posts lie a refraction offset away. Where the scene at the offset lies nearer than
+// the water's own front, the unshifted scene is taken instead (the usual refraction mask).
 const char* const kWaterShading = R"(
 uniform vec3 u_water_color;   // what thick water tends to
 uniform vec3 u_absorption;    // Beer-Lambert coefficients per metre, per channel
 uniform float u_refraction;   // screen offset per unit of thickness and of the normal's screen part
 uniform sampler2D u_scene_color;
+uniform sampler2D u_scene_depth;  // window depth of the same scene
 const float kWaterF0 = 0.02;  // reflectance of water at normal incidence ((1.33 - 1) / (1.33 + 1))^2
 float water_fresnel(float cos_theta) {
     return kWaterF0 + (1.0 - kWaterF0) * pow(1.0 - clamp(cos_theta, 0.0, 1.0), 5.0);
 }
+// The window depth (what u_scene_depth holds) of a point d along the view axis, for a perspective
+// projection with these near and far planes.
+float water_window_depth(float d, vec2 near_far) {
+    float n = near_far.x, f = near_far.y;
+    return 0.5 + 0.5 * (f + n - 2.0 * n * f / d) / (f - n);
+}
 // n, v: the unit normal and the unit direction to the eye; reflected: the environment along the mirror
 // direction; uv: this pixel in the scene colour; n_screen: the normal along the camera's right and up;
-// highlight: the key light's specular term where the light reaches.
-vec3 shade_water(vec3 n, vec3 v, vec3 reflected, float thickness, vec2 uv, vec2 n_screen, float highlight) {
+// highlight: the key light's specular term where the light reaches; front_z: the window depth of the
+// water's surface at this pixel.
+vec3 shade_water(vec3 n, vec3 v, vec3 reflected, float thickness, vec2 uv, vec2 n_screen, float highlight,
+                 float front_z) {
     float fresnel = water_fresnel(dot(n, v));
     vec2 offset = n_screen * u_refraction * min(thickness, 0.2);
-    vec3 behind = texture(u_scene_color, clamp(uv - offset, vec2(0.0), vec2(1.0))).rgb;
+    vec2 shifted = clamp(uv - offset, vec2(0.0), vec2(1.0));
+    vec4 z = textureGather(u_scene_depth, shifted);  // the four texels the colour's bilinear lookup blends
+    if (min(min(z.x, z.y), min(z.z, z.w)) < front_z) shifted = uv;
+    vec3 behind = texture(u_scene_color, shifted).rgb;
     vec3 transmitted = mix(u_water_color, behind, exp(-u_absorption * thickness));
     return mix(transmitted, reflected, fresnel) + vec3(highlight * (0.3 + 0.7 * fresnel));
 }

@@ -22,9 +22,10 @@ extern const char* const kFragmentPrelude;
 extern const char* const kLitVertex;
 extern const char* const kLitFragment;
 
-// shade_water() and its uniforms (u_water_color, u_absorption, u_refraction, u_scene_color) and
-// water_fresnel(cos theta): the water every method shows, placed between the prelude and a fragment
-// shader's main.
+// shade_water() and its uniforms (u_water_color, u_absorption, u_refraction, u_scene_color,
+// u_scene_depth; the lit programs read the last two from units kSceneColorUnit and kSceneDepthUnit),
+// water_fresnel(cos theta) and water_window_depth(d, near_far): the water every method shows, placed
+// between the prelude and a fragment shader's main.
 extern const char* const kWaterShading;
 // The fluid surfaces' thickness (kLitVertex's outputs; uniform u_eye) into a signed sum
 // and a depth span, then resolved into one thickness per pixel over kFullScreenVertex (u_signed_sum,
@@ -71,8 +72,10 @@ inline constexpr int kLitVariants = 6;
 // and reads the same environment on 4.
 inline constexpr int kEnvironmentUnit = 4;
 inline constexpr int kShadowUnit = 5;
-// The lit water's refraction source (the picture before the water) and the fluid's thickness.
+// The lit water's refraction source (the picture before the water, its colour and depth) and the
+// fluid's thickness.
 inline constexpr int kSceneColorUnit = 6;
 inline constexpr int kThicknessUnit = 7;
+inline constexpr int kSceneDepthUnit = 8;
 
 }  // namespace rivulet::shaders

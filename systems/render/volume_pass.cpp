@@ -534,8 +534,9 @@ struct VolumePass::Impl {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
 
-    // The scene behind: its depth where rays run, its colour as far as refraction can reach from there,
-    // and the picture the rays draw the water into.
+    // The scene behind, colour and depth as far as refraction can reach from where rays run (the depth
+    // tells a refracted lookup what stands in front of the water), and the picture the rays draw the
+    // water into.
     void copy_scene(Rect r) {
         const float mx = kRefractionReach * float(width) + 2, my = kRefractionReach * float(height) + 2;
         const Rect wide = clamped(float(r.x0) - mx, float(r.y0) - my, float(r.x1) + mx, float(r.y1) + my);
@@ -546,7 +547,8 @@ struct VolumePass::Impl {
                             wide.y1 - wide.y0);
         glActiveTexture(GL_TEXTURE3);
         glBindTexture(GL_TEXTURE_2D, scene_depth);
-        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, r.x0, r.y0, r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
+        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, wide.x0, wide.y0, wide.x0, wide.y0, wide.x1 - wide.x0,
+                            wide.y1 - wide.y0);
         // The picture's copy from the scene copy, not from the framebuffer again: a plain memory copy.
         glCopyImageSubData(scene_color, GL_TEXTURE_2D, 0, r.x0, r.y0, 0, color_target, GL_TEXTURE_2D, 0, r.x0,
                            r.y0, 0, r.x1 - r.x0, r.y1 - r.y0, 1);

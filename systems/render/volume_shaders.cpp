@@ -60,7 +60,6 @@ void main() {
 const char* const kVolumeRaycastFragment = R"(
 uniform sampler3D u_atlas;         // R32F: the stored bricks' samples
 uniform sampler3D u_bricks;        // RGBA32F per brick: slot (-1: not stored), least, greatest sample
-uniform sampler2D u_scene_depth;   // window depth of the scene behind
 uniform samplerCube u_environment;
 uniform bool u_has_environment;    // else the analytic sky
 uniform float u_reflection_lod;
@@ -286,7 +285,8 @@ void main() {
     vec3 r = reflect(-v, n);
     vec3 reflected = u_has_environment ? textureLod(u_environment, r, u_reflection_lod).rgb : sky_color(r);
     float highlight = pow(max(dot(n, normalize(u_light_dir + v)), 0.0), 96.0);
-    vec3 color = shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight);
+    vec3 color = shade_water(n, v, reflected, thickness, uv, vec2(dot(n, u_right), dot(n, u_up)), highlight,
+                             water_window_depth(t_hit, u_near_far));
     frag_color = vec4(color, 1.0);
     frag_depth = t_hit;
     frag_thickness = thickness;

@@ -19,7 +19,7 @@ class WaterBackdrop {
     WaterBackdrop(const WaterBackdrop&) = delete;
     WaterBackdrop& operator=(const WaterBackdrop&) = delete;
 
-    // Copies the default framebuffer's colour: the scene the water is drawn over.
+    // Copies the default framebuffer's colour and depth: the scene the water is drawn over.
     void copy_scene();
     // ThicknessTargets::begin; the caller draws the closed fluid surfaces with the thickness programs
     // (shaders::kMeshThicknessFragment, kSphereThicknessPointFragment). end_thickness() resolves them and
@@ -27,7 +27,7 @@ class WaterBackdrop {
     void begin_thickness();
     void end_thickness();
     // Binds the scene copy and the thickness to their texture units (shaders::kSceneColorUnit,
-    // shaders::kThicknessUnit).
+    // shaders::kSceneDepthUnit, shaders::kThicknessUnit).
     void bind() const;
 
     int thickness_width() const { return thickness_.width(); }
@@ -38,7 +38,7 @@ class WaterBackdrop {
   private:
     int width_, height_;
     ThicknessTargets thickness_;
-    GLuint scene_color_ = 0;
+    GLuint scene_color_ = 0, scene_depth_ = 0;
 };
 
 }  // namespace rivulet
